@@ -1,0 +1,1 @@
+"""Code generation: turn derived equations into a fast right-hand side."""

@@ -1,0 +1,134 @@
+"""Inter-rotor ball bearing with Hertzian contact and clearance."""
+
+import math
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..errors import ParameterError
+from ..symbolic.functions import ramp
+from .base import Element, Terms
+from .rotor import check_station
+
+__all__ = ["BallBearing"]
+
+
+def _clean(value):
+    """A trigonometric constant as sympy number, exact where it is 0 or +-1."""
+    for exact in (0, 1, -1):
+        if abs(value - exact) < 1e-14:
+            return sp.Integer(exact)
+    return sp.Float(value)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class BallBearing(Element):
+    """A ball bearing between two rotors (inner race on one, outer race on the other).
+
+    The cage turns at ``omega_c = (Omega_i R_i + Omega_o R_o) / (R_i + R_o)``
+    from the two rotor speeds; ball j sits at
+    ``theta_j = omega_c t + 2 pi (j - 1) / N_b``. Its deformation is
+    ``delta_j = (x_o - x_i) cos theta_j + (y_o - y_i) sin theta_j - delta_0``
+    and the Hertzian force ``F = C_b sum max(delta_j, 0)^n (cos, sin) theta_j``
+    acts +F on the inner-race station and -F on the outer-race station.
+
+    Parameters
+    ----------
+    inner_station, outer_station : int or str
+        Stations of the inner and outer race; they must be on different rotors.
+    contact_stiffness : float or pint.Quantity
+        Hertz constant C_b (N/m^1.5 for n = 1.5).
+    clearance : float or pint.Quantity
+        Radial clearance delta_0 (m), >= 0.
+    n_balls : int
+        Number of balls N_b (>= 3). Structural: it sets the number of terms.
+    inner_race_radius, outer_race_radius : float or pint.Quantity
+        R_inner, R_outer (m).
+    exponent : float
+        Load-deflection exponent n (1.5 for balls). Structural.
+
+    Examples
+    --------
+    >>> BallBearing(inner_station=4, outer_station=7, contact_stiffness=1.334e10,
+    ...             clearance=5e-6, n_balls=8, inner_race_radius=0.0401,
+    ...             outer_race_radius=0.0639).label()
+    'bearing4_7'
+    """
+
+    inner_station: int | str = None
+    outer_station: int | str = None
+    contact_stiffness: float = None
+    clearance: float = 0.0
+    n_balls: int = None
+    inner_race_radius: float = None
+    outer_race_radius: float = None
+    exponent: float = 1.5
+
+    _units = {
+        "contact_stiffness": ("", "positive"),  # N/m^n, n structural: checked as a plain number
+        "clearance": ("m", "nonnegative"),
+        "inner_race_radius": ("m", "positive"),
+        "outer_race_radius": ("m", "positive"),
+    }
+    _latex_names = {
+        "contact_stiffness": "C_b",
+        "clearance": r"\delta_0",
+        "inner_race_radius": "R_{i}",
+        "outer_race_radius": "R_{o}",
+    }
+
+    def __post_init__(self):
+        # C_b's unit depends on the exponent: convert a pint quantity here.
+        cb = self.contact_stiffness
+        if hasattr(cb, "to") and hasattr(cb, "magnitude"):
+            from ..units import to_si
+
+            n = self.exponent if isinstance(self.exponent, (int, float)) else 1.5
+            object.__setattr__(
+                self, "contact_stiffness", to_si(cb, f"N/m**{n}", "BallBearing.contact_stiffness", sign="positive")
+            )
+        Element.__post_init__(self)
+
+    def _validate(self):
+        who = f"BallBearing {self.inner_station!r}-{self.outer_station!r}"
+        check_station(who, self.inner_station)
+        check_station(who, self.outer_station)
+        for name in ("contact_stiffness", "inner_race_radius", "outer_race_radius"):
+            if getattr(self, name) is None:
+                raise ParameterError(f"{who}: {name} is required")
+        if isinstance(self.n_balls, bool) or not isinstance(self.n_balls, int) or self.n_balls < 3:
+            raise ParameterError(f"{who}: n_balls={self.n_balls!r} must be an int >= 3")
+        if isinstance(self.exponent, bool) or not isinstance(self.exponent, (int, float)) or not self.exponent >= 1:
+            raise ParameterError(f"{who}: exponent={self.exponent!r} must be a number >= 1 (1.5 for balls)")
+
+    def attached_stations(self):
+        return (self.inner_station, self.outer_station)
+
+    def _default_label(self):
+        return f"bearing{self.inner_station}_{self.outer_station}"
+
+    def cage_speed(self, ctx):
+        """Cage speed omega_c as an expression of the rotor speeds."""
+        p = ctx.p
+        ri, ro = p["inner_race_radius"], p["outer_race_radius"]
+        return (ctx.speed(self.inner_station) * ri + ctx.speed(self.outer_station) * ro) / (ri + ro)
+
+    def contribute(self, ctx):
+        p = ctx.p
+        (xi, _), (yi, _) = ctx.coord(self.inner_station, "x"), ctx.coord(self.inner_station, "y")
+        (xo, _), (yo, _) = ctx.coord(self.outer_station, "x"), ctx.coord(self.outer_station, "y")
+        theta = self.cage_speed(ctx) * ctx.t
+        c0, s0 = sp.cos(theta), sp.sin(theta)
+        n = sp.nsimplify(self.exponent)
+        fx = fy = sp.S.Zero
+        for j in range(self.n_balls):
+            # ball angle by angle addition: one sin/cos pair for all balls
+            ca, sa = _clean(math.cos(2 * math.pi * j / self.n_balls)), _clean(math.sin(2 * math.pi * j / self.n_balls))
+            cj, sj = (c0, s0) if j == 0 else (c0 * ca - s0 * sa, s0 * ca + c0 * sa)
+            delta = (xo - xi) * cj + (yo - yi) * sj - p["clearance"]
+            load = ramp(delta) ** n
+            fx += load * cj
+            fy += load * sj
+        cb = p["contact_stiffness"]
+        loads = {xi: cb * fx, yi: cb * fy, xo: -cb * fx, yo: -cb * fy}
+        return Terms(loads=loads)

@@ -1,0 +1,143 @@
+"""Inertia at a station: rigid disks (with unbalance) and lumped shaft masses."""
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..errors import ParameterError
+from .base import Element, Terms
+from .rotor import check_station
+
+__all__ = ["Disk", "LumpedMass"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class Disk(Element):
+    """A rigid disk at a station, with mass unbalance and optional torsion.
+
+    The disk centroid sits at ``(x + e cos phi, y + e sin phi)`` with the
+    phase ``phi = Omega t + phase (+ alpha)``, where ``Omega`` is the speed of
+    the disk's rotor and ``alpha`` the torsional coordinate (``torsion=True``).
+    The kinetic energy ``T = 1/2 m |v_G|^2 + 1/2 J phi'^2`` gives, through
+    Lagrange's equations, the unbalance forcing and, with torsion, a
+    state-dependent mass matrix coupling ``x, y, alpha`` (entries
+    ``-m e sin phi``, ``m e cos phi``, ``J + m e^2``).
+
+    Parameters
+    ----------
+    station : int or str
+        Station of the disk.
+    mass : float or pint.Quantity
+        Mass (kg), > 0.
+    polar_inertia : float or pint.Quantity, optional
+        Polar moment of inertia about the centroid (kg m^2).
+    radius : float or pint.Quantity, optional
+        Disk radius (m). Without ``polar_inertia`` the disk is a uniform thin
+        disk, ``J = m R^2 / 2``. A rub stator uses it as contact radius.
+    eccentricity : float or pint.Quantity
+        Distance of the centroid from the shaft axis (m), >= 0.
+    phase : float
+        Initial phase of the centroid (rad).
+    torsion : bool
+        Give the disk a torsional coordinate ``alpha<station>``.
+
+    Examples
+    --------
+    >>> Disk(station=2, mass=10.0, radius=0.075, eccentricity=46.35e-6, torsion=True).label()
+    'disk2'
+    """
+
+    station: int | str = None
+    mass: float = None
+    polar_inertia: float | None = None
+    radius: float | None = None
+    eccentricity: float = 0.0
+    phase: float = 0.0
+    torsion: bool = False
+
+    _units = {
+        "mass": ("kg", "positive"),
+        "polar_inertia": ("kg*m**2", "positive"),
+        "radius": ("m", "positive"),
+        "eccentricity": ("m", "nonnegative"),
+        "phase": ("rad", None),
+    }
+    _latex_names = {"mass": "m", "polar_inertia": "J", "radius": "R", "eccentricity": "e", "phase": r"\phi"}
+
+    def _validate(self):
+        check_station("Disk", self.station)
+        if self.mass is None:
+            raise ParameterError(f"Disk at station {self.station!r}: mass is required (kg)")
+        if self.polar_inertia is None and self.radius is None:
+            raise ParameterError(
+                f"Disk at station {self.station!r}: give polar_inertia (kg m^2) or radius (m)"
+            )
+        if not isinstance(self.torsion, bool):
+            raise ParameterError(f"Disk at station {self.station!r}: torsion={self.torsion!r} must be True or False")
+
+    def attached_stations(self):
+        return (self.station,)
+
+    def _default_label(self):
+        return f"disk{self.station}"
+
+    def polar_inertia_expr(self, p):
+        """J as an expression of the parameter symbols ``p``."""
+        if self.polar_inertia is not None:
+            return p["polar_inertia"]
+        return p["mass"] * p["radius"] ** 2 / 2
+
+    def contribute(self, ctx):
+        p = ctx.p
+        (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
+        spin = ctx.speed(self.station)
+        m, e = p["mass"], p["eccentricity"]
+        phi = spin * ctx.t + p["phase"]
+        phi_dot = spin
+        if self.torsion:
+            alpha, alpha_dot = ctx.coord(self.station, "alpha")
+            phi, phi_dot = phi + alpha, spin + alpha_dot
+        vx = xd - e * phi_dot * sp.sin(phi)
+        vy = yd + e * phi_dot * sp.cos(phi)
+        kinetic = m * (vx**2 + vy**2) / 2
+        if self.torsion:
+            kinetic += self.polar_inertia_expr(p) * phi_dot**2 / 2
+        return Terms(kinetic=kinetic)
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class LumpedMass(Element):
+    """A point mass at a station (a lumped piece of shaft), bending only.
+
+    Parameters
+    ----------
+    station : int or str
+    mass : float or pint.Quantity
+        Mass (kg), > 0.
+
+    Examples
+    --------
+    >>> LumpedMass(station=1, mass=2.0).label()
+    'mass1'
+    """
+
+    station: int | str = None
+    mass: float = None
+
+    _units = {"mass": ("kg", "positive")}
+    _latex_names = {"mass": "m"}
+
+    def _validate(self):
+        check_station("LumpedMass", self.station)
+        if self.mass is None:
+            raise ParameterError(f"LumpedMass at station {self.station!r}: mass is required (kg)")
+
+    def attached_stations(self):
+        return (self.station,)
+
+    def _default_label(self):
+        return f"mass{self.station}"
+
+    def contribute(self, ctx):
+        (_, xd), (_, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
+        return Terms(kinetic=ctx.p["mass"] * (xd**2 + yd**2) / 2)

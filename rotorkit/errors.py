@@ -1,0 +1,47 @@
+"""The library's own error types.
+
+Every error a user can trigger with bad input is one of these, so callers can
+catch ``RotorkitError`` (or the built-in ``ValueError``/``TypeError`` it
+derives from) and never see a bare ``KeyError`` or ``ZeroDivisionError``.
+"""
+
+__all__ = [
+    "RotorkitError",
+    "ParameterError",
+    "UnitError",
+    "TopologyError",
+    "SimulationError",
+]
+
+
+class RotorkitError(Exception):
+    """Base class of every error rotorkit raises on purpose."""
+
+
+class ParameterError(RotorkitError, ValueError):
+    """A parameter has a bad value (sign, range, unknown name)."""
+
+
+class UnitError(ParameterError, TypeError):
+    """A quantity has the wrong physical dimension or type."""
+
+
+class TopologyError(RotorkitError, ValueError):
+    """Elements do not fit together (unknown station, rotor without support, ...)."""
+
+
+class SimulationError(RotorkitError, RuntimeError):
+    """An integration failed; ``partial`` holds the result up to the failure.
+
+    Attributes
+    ----------
+    partial : rotorkit.result.Result or None
+        The samples computed before the failure.
+    time : float or None
+        The time (s) the integration reached.
+    """
+
+    def __init__(self, message, *, partial=None, time=None):
+        super().__init__(message)
+        self.partial = partial
+        self.time = time

@@ -1,0 +1,129 @@
+"""Simulation results: named signals, metadata, save/load, thin plot methods."""
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ParameterError
+
+__all__ = ["Result", "load_result"]
+
+FILE_FORMAT = "rotorkit-result-1"
+
+
+@dataclass(frozen=True)
+class Result:
+    """Sampled states of a simulation.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        Sample times (s), shape (n_samples,).
+    y : numpy.ndarray
+        States (SI: m, rad, m/s, rad/s), shape (n_states, n_samples).
+    state_names : tuple of str
+        Names of the rows of ``y`` (``x2``, ``alpha2``, ``x2_dot``, ...).
+    parameters : dict
+        Parameter name -> SI value used in the run.
+    stats : dict
+        Solver statistics: ``nfev``, ``method``, ``rtol``, ``atol``,
+        ``wall_time``, ``segments``, ``backend``, ``engine``, ``success``, ``message``.
+    name : str
+        Model name.
+
+    Signals are read by name: ``result["x2"]``; a difference of two states
+    reads ``result["alpha2-alpha5"]``.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    state_names: tuple
+    parameters: dict = field(default_factory=dict)
+    stats: dict = field(default_factory=dict)
+    name: str = "model"
+
+    def __post_init__(self):
+        for arr in (self.t, self.y):
+            arr.setflags(write=False)
+
+    def __getitem__(self, name):
+        if name in self.state_names:
+            return self.y[self.state_names.index(name)]
+        if "-" in name:
+            a, b = (s.strip() for s in name.split("-", 1))
+            return self[a] - self[b]
+        raise ParameterError(
+            f"result has no signal {name!r}; signals are {', '.join(self.state_names)} "
+            "or a difference such as 'alpha2-alpha5'"
+        )
+
+    def __contains__(self, name):
+        return name in self.state_names
+
+    @property
+    def sample_rate(self):
+        """Samples per second (Hz)."""
+        return (len(self.t) - 1) / (self.t[-1] - self.t[0]) if len(self.t) > 1 else float("nan")
+
+    def window(self, start, end):
+        """A copy holding only the samples with ``start <= t <= end``."""
+        keep = (self.t >= start) & (self.t <= end)
+        return Result(t=self.t[keep].copy(), y=self.y[:, keep].copy(), state_names=self.state_names,
+                      parameters=self.parameters, stats=self.stats, name=self.name)
+
+    # -- plots (thin: see rotorkit.plotting) --------------------------------
+    def plot_orbit(self, station, ax=None, **kwargs):
+        """Axis orbit ``y<station>`` against ``x<station>``; returns the matplotlib Axes."""
+        from .plotting.basic import plot_orbit
+
+        return plot_orbit(self, station, ax=ax, **kwargs)
+
+    def plot_signals(self, names, ax=None, **kwargs):
+        """Time histories of the named signals; returns the matplotlib Axes."""
+        from .plotting.basic import plot_signals
+
+        return plot_signals(self, names, ax=ax, **kwargs)
+
+    # -- files ------------------------------------------------------------
+    def save(self, path):
+        """Write a ``.npz`` file (atomically): arrays ``t``, ``y`` and JSON ``meta``.
+
+        The format is documented in ``docs/results.md``; it holds no pickled
+        objects and is read back with :func:`load_result`.
+        """
+        from .codegen.loader import atomic_write_bytes
+
+        meta = {"format": FILE_FORMAT, "name": self.name, "state_names": list(self.state_names),
+                "parameters": self.parameters, "stats": _jsonable(self.stats)}
+        import io
+
+        buf = io.BytesIO()
+        np.savez_compressed(buf, t=self.t, y=self.y, meta=np.array(json.dumps(meta)))
+        path = Path(path)
+        atomic_write_bytes(path, buf.getvalue())
+        return path
+
+
+def _jsonable(d):
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, (np.floating, np.integer)):
+            v = v.item()
+        elif isinstance(v, np.ndarray):
+            v = v.tolist()
+        elif isinstance(v, (list, tuple)):
+            v = [x.item() if isinstance(x, (np.floating, np.integer)) else x for x in v]
+        out[k] = v
+    return out
+
+
+def load_result(path):
+    """Read a file written by :meth:`Result.save` (parsed as data, never executed)."""
+    with np.load(Path(path), allow_pickle=False) as data:
+        meta = json.loads(str(data["meta"]))
+        if meta.get("format") != FILE_FORMAT:
+            raise ParameterError(f"{path}: not a rotorkit result file (format {meta.get('format')!r})")
+        return Result(t=data["t"].copy(), y=data["y"].copy(), state_names=tuple(meta["state_names"]),
+                      parameters=meta["parameters"], stats=meta["stats"], name=meta["name"])

@@ -1,0 +1,1 @@
+"""Symbolic layer: safe piecewise functions and Lagrange's equations from element terms."""

@@ -1,0 +1,187 @@
+"""The compiled numeric system: ``rhs(t, y)`` in scipy's ``fun(t, y)`` form."""
+
+import difflib
+import os
+
+import numpy as np
+
+from .errors import ParameterError
+from .units import to_si
+
+__all__ = ["System", "compile_model", "available_backends"]
+
+BACKENDS = ("python", "numba")
+
+
+def available_backends():
+    """The back ends usable here: ``python`` always, ``numba`` when installed."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return ("python",)
+    return BACKENDS
+
+
+def _resolve_backend(backend):
+    if backend == "auto":
+        backend = os.environ.get("ROTORKIT_BACKEND", "auto")
+    if backend == "auto":
+        return available_backends()[-1]
+    if backend not in BACKENDS:
+        raise ParameterError(f"backend={backend!r} is unknown; expected 'auto', 'python' or 'numba'")
+    if backend not in available_backends():
+        raise ParameterError("backend='numba' needs numba: pip install 'rotorkit[fast]' (or use backend='python')")
+    return backend
+
+
+class System:
+    """A compiled model: numbers in, derivatives out.
+
+    Attributes
+    ----------
+    state_names : tuple of str
+        Coordinates in order, then their velocities (``x2``, ..., ``x2_dot``, ...).
+    coordinate_names : tuple of str
+    parameters : dict
+        Parameter name -> SI value (a copy).
+    time_events : tuple of float
+        Times (s) at which the equations jump (manoeuvre start/end); the
+        simulation restarts there.
+    backend : str
+        ``"python"`` or ``"numba"``.
+    core : callable
+        ``core(t, y, p, dydt)``: the generated function (numba-compiled for
+        the numba back end) taking the prepared parameter vector ``p``.
+    prepared_parameters : numpy.ndarray
+        Parameters followed by the parameter-only subexpressions.
+    """
+
+    def __init__(self, *, name, structure_key, module, backend, values, units, signs, event_parameters,
+                 fixed_events, core):
+        self.name = name
+        self.structure_key = structure_key
+        self.backend = backend
+        self.core = core
+        self._module = module
+        self._units = units
+        self._signs = signs
+        self._event_parameters = event_parameters
+        self._fixed_events = tuple(fixed_events)
+        self.parameter_names = tuple(module.PARAMETER_NAMES)
+        self.state_names = tuple(module.STATE_NAMES)
+        self.coordinate_names = self.state_names[: module.N_COORDINATES]
+        self._values = dict(values)
+        p = np.array([self._values[n] for n in self.parameter_names], dtype=float)
+        self.prepared_parameters = module.prepare(p, np.empty(len(p) + module.N_DERIVED))
+        if not np.all(np.isfinite(self.prepared_parameters)):
+            bad = [n for n, v in zip(self.parameter_names, p) if not np.isfinite(v)]
+            raise ParameterError(f"{name}: parameters give non-finite derived values (check {bad or 'zero lengths'})")
+        self._plist = self.prepared_parameters.tolist()
+
+    @property
+    def n_states(self):
+        return len(self.state_names)
+
+    @property
+    def parameters(self):
+        return dict(self._values)
+
+    @property
+    def time_events(self):
+        times = [self._values[n] for n in self._event_parameters] + list(self._fixed_events)
+        return tuple(sorted(set(times)))
+
+    def state_index(self, name):
+        """Index of a state by name, with a clear error for unknown names."""
+        try:
+            return self.state_names.index(name)
+        except ValueError:
+            near = difflib.get_close_matches(name, self.state_names, n=3)
+            hint = f"; did you mean {', '.join(near)}?" if near else ""
+            raise ParameterError(f"unknown state {name!r}{hint} (states: {', '.join(self.state_names)})") from None
+
+    def rhs(self, t, y):
+        """dy/dt at time ``t`` (s) and state ``y`` (shape (n_states,)), scipy's ``fun(t, y)``."""
+        if self.backend == "numba":
+            dydt = np.empty(self.n_states)
+            self.core(float(t), np.asarray(y, dtype=float), self.prepared_parameters, dydt)
+            return dydt
+        dydt = [0.0] * self.n_states
+        self.core(float(t), np.asarray(y, dtype=float).tolist(), self._plist, dydt)
+        return np.array(dydt)
+
+    def with_parameters(self, **overrides):
+        """A copy with some parameter values changed (no re-derivation, no recompilation).
+
+        Values are SI floats or pint quantities; names as in :attr:`parameters`.
+        """
+        values = dict(self._values)
+        for name, value in overrides.items():
+            if name not in values:
+                near = difflib.get_close_matches(name, list(values), n=3)
+                hint = f"; did you mean {', '.join(near)}?" if near else ""
+                raise ParameterError(f"{self.name}: unknown parameter {name!r}{hint}")
+            values[name] = to_si(value, self._units[name], name, sign=self._signs.get(name))
+        return System(name=self.name, structure_key=self.structure_key, module=self._module, backend=self.backend,
+                      values=values, units=self._units, signs=self._signs, event_parameters=self._event_parameters,
+                      fixed_events=self._fixed_events, core=self.core)
+
+    def initial_state(self, **values):
+        """A state vector of zeros with some named entries set (``x2=1e-4``)."""
+        y = np.zeros(self.n_states)
+        for name, v in values.items():
+            y[self.state_index(name)] = float(v)
+        return y
+
+    def __repr__(self):
+        return f"System({self.name!r}, {self.n_states} states, {len(self.parameter_names)} parameters, backend={self.backend!r})"
+
+
+_JIT_CACHE = {}
+
+
+def _numba_core(module):
+    func = _JIT_CACHE.get(module.__name__)
+    if func is None:
+        import numba
+
+        func = numba.njit(cache=True, error_model="numpy")(module.rhs)
+        _JIT_CACHE[module.__name__] = func
+    return func
+
+
+def compile_model(model, backend="auto"):
+    """Derive (once per structure), generate and load the RHS of ``model``.
+
+    Parameters
+    ----------
+    model : rotorkit.Model
+    backend : {"auto", "python", "numba"}
+        ``auto`` picks numba when it is installed (``$ROTORKIT_BACKEND``
+        overrides).
+
+    Returns
+    -------
+    System
+    """
+    from .codegen.generate import generate
+    from .codegen.loader import load_module
+
+    backend = _resolve_backend(backend)
+    key = model.structure_key
+    module = _MODULES.get(key)
+    if module is None:
+        code = generate(model.equations(), key)
+        module = load_module(code.source, key)
+        _MODULES[key] = module
+    core = _numba_core(module) if backend == "numba" else module.rhs
+    signs = {}
+    for e in model.elements:
+        for f, (_, sign) in e._units.items():
+            signs[f"{e.label()}_{f}"] = sign
+    return System(name=model.name, structure_key=key, module=module, backend=backend, values=model.parameters,
+                  units=model.parameter_units, signs=signs, event_parameters=model.time_event_parameters(),
+                  fixed_events=model.fixed_time_events(), core=core)
+
+
+_MODULES = {}
