@@ -56,6 +56,15 @@ DEFAULTS = {
     "torsional_damping": 1.0,  # N m s/rad
 }
 
+#: SI unit of each override, checked at the boundary
+UNITS = {
+    "lp_speed": "rad/s", "speed_ratio": "", "rub_stiffness": "N/m", "friction_coefficient": "",
+    "rub_clearance": "m", "roll_rate": "rad/s", "roll_radius": "m", "roll_start": "s", "roll_end": "s",
+    "gravity": "m/s**2", "bearing_stiffness": "N/m**1.5", "bearing_clearance": "m", "eccentricity_lp": "m",
+    "eccentricity_hp": "m", "support_stiffness": "N/m", "support_damping": "N*s/m", "shaft_damping": "N*s/m",
+    "torsional_damping": "N*m*s/rad",
+}
+
 #: switches: which effects the scene holds
 SWITCHES = {"torsion": True, "rub": True, "maneuver": True}
 
@@ -79,10 +88,16 @@ def build(**overrides):
         raise ParameterError(
             f"al31f: unknown override {name!r}{hint} (known: {', '.join(list(DEFAULTS) + list(SWITCHES))})"
         )
-    v = {**DEFAULTS, **SWITCHES, **overrides}
-    for s in SWITCHES:
-        if not isinstance(v[s], bool):
-            raise ParameterError(f"al31f: {s}={v[s]!r} must be True or False")
+    from rotorkit.units import to_si
+
+    v = {**DEFAULTS, **SWITCHES}
+    for name, value in overrides.items():
+        if name in SWITCHES:
+            if not isinstance(value, bool):
+                raise ParameterError(f"al31f: {name}={value!r} must be True or False")
+            v[name] = value
+        else:
+            v[name] = to_si(value, UNITS[name], f"al31f {name}")
     torsion = v["torsion"]
     l1, l2, l3, l4, l5 = LENGTHS
     elements = [
@@ -120,3 +135,12 @@ def build(**overrides):
     else:
         elements.append(Maneuver.steady(gravity=v["gravity"]))
     return Model(elements, name="al31f")
+
+#: what ``rotorkit run al31f`` simulates and draws
+OUTPUTS = {
+    "t_end": 6.0,
+    "orbit_station": 2,
+    "clearance_parameter": "rub2_clearance",
+    "bending": "x2",
+    "torsion": "alpha2-alpha5",
+}

@@ -40,9 +40,11 @@ class _Progress:
     def __init__(self, t0, t1, report, every=20000):
         self.t0, self.t1, self.report, self.every = t0, t1, report, every
         self.count = 0
+        self.last_t = t0
 
     def tick(self, t):
         self.count += 1
+        self.last_t = t
         if self.report is not None and self.count % self.every == 0:
             self.report((t - self.t0) / (self.t1 - self.t0), t)
 
@@ -128,7 +130,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         out_y.append(sol.y)
         if sol.status != 0 or not np.all(np.isfinite(sol.y)):
             partial = _result(system, out_t, out_y, stats, method, rtol, atol, start_wall, False, sol.message)
-            reached = sol.t[-1] if sol.t.size else a
+            reached = counter.last_t
             raise SimulationError(_failure_message(system, sol, reached, a, b), partial=partial, time=reached)
         y = sol.y[:, -1]
     if report is not None:
@@ -150,6 +152,7 @@ def _failure_message(system, sol, reached, a, b):
     y_last = sol.y[:, -1] if sol.t.size else None
     lines = [f"{system.name}: integration failed at t = {reached:.6g} s (segment {a:g}-{b:g} s): {sol.message}"]
     if y_last is not None:
+        lines.append(f"last sample at t = {sol.t[-1]:.6g} s")
         bad = [system.state_names[i] for i in np.flatnonzero(~np.isfinite(y_last))]
         if bad:
             lines.append(f"non-finite states: {', '.join(bad)}")

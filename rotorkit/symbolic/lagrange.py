@@ -132,15 +132,20 @@ class EquationsOfMotion:
         return "$$" + self.latex() + "$$"
 
     def __str__(self):
+        q = [str(c) for c in self.coordinates]
         out = [f"Equations of motion, {self.n} coordinates: M(q, t) q'' + C q' + K q = F(q, q', t)",
-               f"q = {list(self.coordinates)}", "", "M =", sp.pretty(self.mass_matrix, wrap_line=False), "",
-               "C =", sp.pretty(self.damping, wrap_line=False), "", "K =", sp.pretty(self.stiffness, wrap_line=False)]
+               f"q = [{', '.join(q)}]"]
+        for title, mat in (("M", self.mass_matrix), ("C", self.damping), ("K", self.stiffness)):
+            out.append(f"\n{title} (nonzero entries, symmetric: upper triangle):")
+            for i in range(self.n):
+                for j in range(i, self.n):
+                    if mat[i, j] != 0:
+                        out.append(f"  {title}[{q[i]}, {q[j]}] = {mat[i, j]}")
         for label, vec in self.forces.items():
-            out.append("")
-            out.append(f"F[{label}]:")
+            out.append(f"\nF from {label}:")
             for i, v in enumerate(vec):
                 if v != 0:
-                    out.append(f"  {self.coordinates[i]}: {v}")
+                    out.append(f"  F[{q[i]}] = {v}")
         return "\n".join(out)
 
 

@@ -1,0 +1,201 @@
+"""Command line: ``rotorkit run``, ``rotorkit equations``, ``rotorkit list``."""
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from .errors import ParameterError, RotorkitError, SimulationError
+
+__all__ = ["main", "parse_assignment"]
+
+_TRUE, _FALSE = {"true", "yes", "on", "1"}, {"false", "no", "off", "0"}
+
+
+def parse_assignment(text, defaults=None):
+    """Parse ``name=value`` strictly: a float, a pint quantity (``"2e6 N/m"``) or a switch.
+
+    Parameters
+    ----------
+    text : str
+    defaults : dict, optional
+        Known names -> default values; a bool default makes the value a switch.
+
+    Returns
+    -------
+    (str, object)
+    """
+    if "=" not in text:
+        raise ParameterError(f"--set {text!r}: expected name=value, e.g. rub_stiffness=2e6")
+    name, raw = (s.strip() for s in text.split("=", 1))
+    if not name.isidentifier():
+        raise ParameterError(f"--set {text!r}: {name!r} is not a parameter name")
+    if defaults is not None and isinstance(defaults.get(name), bool):
+        low = raw.lower()
+        if low in _TRUE | _FALSE:
+            return name, low in _TRUE
+        raise ParameterError(f"--set {name}={raw!r}: expected true or false")
+    try:
+        return name, float(raw)
+    except ValueError:
+        pass
+    from .units import registry
+
+    try:
+        quantity = registry().Quantity(raw)
+    except Exception as exc:
+        raise ParameterError(
+            f"--set {name}={raw!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')"
+        ) from exc
+    if not hasattr(quantity, "magnitude") or isinstance(quantity, (int, float)):
+        raise ParameterError(f"--set {name}={raw!r}: not a number")
+    return name, quantity
+
+
+def _progress_printer():
+    state = {"last": -1}
+    tty = sys.stderr.isatty()
+
+    def report(fraction, t):
+        if tty:
+            bar = "#" * int(30 * fraction)
+            sys.stderr.write(f"\r  simulating [{bar:<30}] {100 * fraction:5.1f} %  t = {t:.3f} s")
+            if fraction >= 1:
+                sys.stderr.write("\n")
+        else:
+            decile = int(10 * fraction)
+            if decile > state["last"]:
+                state["last"] = decile
+                sys.stderr.write(f"  simulating: {100 * fraction:5.1f} %  t = {t:.3f} s\n")
+        sys.stderr.flush()
+
+    return report
+
+
+def _cmd_run(args):
+    from .presets import preset_module
+    from .simulate import simulate
+
+    module = preset_module(args.preset)
+    known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
+    overrides = dict(parse_assignment(s, known) for s in args.set)
+    outputs = getattr(module, "OUTPUTS", {})
+    t_end = args.t_end if args.t_end is not None else outputs.get("t_end", 1.0)
+    start = time.perf_counter()
+    model = module.build(**overrides)
+    system = model.compile(backend=args.backend)
+    compiled = time.perf_counter()
+    print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
+    try:
+        result = simulate(system, (0.0, t_end), method=args.method, rtol=args.rtol, atol=args.atol,
+                          sample_rate=args.sample_rate, progress=_progress_printer())
+    except SimulationError as err:
+        if err.partial is not None and err.partial.t.size:
+            out = Path(args.out or f"rotorkit-out/{args.preset}")
+            path = err.partial.save(out / "signals-partial.npz")
+            print(f"partial result written to {path}", file=sys.stderr)
+        raise
+    stats = result.stats
+    print(f"simulated 0-{t_end:g} s in {stats['wall_time']:.2f} s: {stats['nfev']} RHS evaluations, "
+          f"method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
+    out = Path(args.out or f"rotorkit-out/{args.preset}")
+    written = _write_outputs(result, outputs, out)
+    for p in written:
+        print(f"wrote {p}")
+    return 0
+
+
+def _write_outputs(result, outputs, out):
+    from .codegen.loader import atomic_write_text
+    from .plotting.basic import plot_orbit, plot_signals
+
+    out.mkdir(parents=True, exist_ok=True)
+    written = [result.save(out / "signals.npz")]
+    station = outputs.get("orbit_station")
+    clearance = result.parameters.get(outputs.get("clearance_parameter", ""), None)
+    if station is not None:
+        ax = plot_orbit(result, station, clearance=clearance)
+        written.append(_save_figure(ax.figure, out / f"orbit_station{station}.png"))
+    for key, scale, unit in (("bending", 1e6, "µm"), ("torsion", 1e6, "µrad")):
+        name = outputs.get(key)
+        if name:
+            ax = plot_signals(result, name, scale=scale, unit_label=unit)
+            written.append(_save_figure(ax.figure, out / f"{name.replace('-', '_minus_')}.png"))
+    summary = {"name": result.name, "stats": {k: v for k, v in result.stats.items()},
+               "parameters": result.parameters}
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
+    written.append(out / "summary.json")
+    return written
+
+
+def _save_figure(fig, path):
+    import io
+
+    from .codegen.loader import atomic_write_bytes
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=120)
+    atomic_write_bytes(path, buf.getvalue())
+    return path
+
+
+def _cmd_equations(args):
+    from .presets import preset_module
+
+    module = preset_module(args.preset)
+    known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
+    model = module.build(**dict(parse_assignment(s, known) for s in args.set))
+    eom = model.equations()
+    print(eom.latex() if args.latex else eom)
+    return 0
+
+
+def _cmd_list(args):
+    from .presets import list_presets, preset_module
+
+    for name in list_presets():
+        print(f"{name}: {preset_module(name).DESCRIPTION}")
+    return 0
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(prog="rotorkit", description="Rotordynamics models: derive, compile, simulate.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    run = sub.add_parser("run", help="simulate a preset and write plots and signals")
+    run.add_argument("preset", help="preset name, e.g. al31f (see 'rotorkit list')")
+    run.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                     help="override a preset parameter (SI number or quantity, e.g. rub_stiffness=2e6)")
+    run.add_argument("--out", help="output folder (default rotorkit-out/<preset>)")
+    run.add_argument("--t-end", type=float, help="end time in s (default: the preset's, 6 s for al31f)")
+    run.add_argument("--method", default="DOP853", help="solve_ivp method (default DOP853)")
+    run.add_argument("--rtol", type=float, default=1e-6)
+    run.add_argument("--atol", type=float, default=1e-9)
+    run.add_argument("--sample-rate", type=float, default=10_000.0, help="output samples per second")
+    run.add_argument("--backend", default="auto", choices=("auto", "python", "numba"))
+    run.set_defaults(func=_cmd_run)
+
+    eq = sub.add_parser("equations", help="print the derived equations of a preset")
+    eq.add_argument("preset")
+    eq.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    eq.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
+    eq.set_defaults(func=_cmd_equations)
+
+    ls = sub.add_parser("list", help="list the bundled presets")
+    ls.set_defaults(func=_cmd_list)
+    return parser
+
+
+def main(argv=None):
+    """Entry point of the ``rotorkit`` command."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except RotorkitError as err:
+        print(f"rotorkit: error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,71 @@
+"""Command line: strict --set parsing, run writes its files, equations prints."""
+
+import subprocess
+import sys
+
+import pytest
+
+from rotorkit.cli import main, parse_assignment
+from rotorkit.errors import ParameterError
+
+
+def test_parse_assignment():
+    assert parse_assignment("rub_stiffness=2e6") == ("rub_stiffness", 2e6)
+    name, q = parse_assignment("rub_stiffness=2e3 N/mm")
+    assert name == "rub_stiffness" and q.to("N/m").magnitude == pytest.approx(2e6)
+    assert parse_assignment("rub=false", {"rub": True}) == ("rub", False)
+
+
+@pytest.mark.parametrize("text, match", [
+    ("rub_stiffness", "expected name=value"),
+    ("rub_stiffness=abc", "not a number or a quantity"),
+    ("rub=maybe", "expected true or false"),
+    ("1x=2", "not a parameter name"),
+])
+def test_parse_assignment_rejects(text, match):
+    with pytest.raises(ParameterError, match=match):
+        parse_assignment(text, {"rub": True})
+
+
+def test_run_writes_plots_and_signals(tmp_path, capsys):
+    code = main(["run", "al31f", "--t-end", "0.05", "--out", str(tmp_path), "--set", "rub_stiffness=2e6"])
+    assert code == 0
+    out = capsys.readouterr().out
+    for name in ("signals.npz", "orbit_station2.png", "x2.png", "alpha2_minus_alpha5.png", "summary.json"):
+        assert (tmp_path / name).stat().st_size > 0
+        assert f"wrote {tmp_path / name}" in out
+    import rotorkit as rk
+
+    assert rk.load_result(tmp_path / "signals.npz").parameters["rub2_contact_stiffness"] == 2e6
+
+
+@pytest.mark.parametrize("args, match", [
+    (["run", "al31f", "--set", "rub_stifness=1"], "did you mean rub_stiffness"),
+    (["run", "al31f", "--set", "rub_stiffness=2 kg"], "wrong unit"),
+    (["run", "nosuch"], "unknown preset 'nosuch'"),
+])
+def test_errors_exit_2_with_a_message(args, match, capsys):
+    assert main(args) == 2
+    assert match in capsys.readouterr().err
+
+
+def test_equations_prints_the_model(capsys):
+    assert main(["equations", "al31f", "--set", "rub=false"]) == 0
+    out = capsys.readouterr().out
+    assert "16 coordinates" in out and "rub2" not in out and "M[x2, alpha2]" in out
+
+
+def test_python_path_without_numba():
+    """With numba unavailable, 'auto' falls back to the pure-Python back end and runs."""
+    code = (
+        "import sys; sys.modules['numba'] = None\n"
+        "import rotorkit as rk\n"
+        "assert rk.available_backends() == ('python',)\n"
+        "s = rk.preset('al31f').compile()\n"
+        "assert s.backend == 'python'\n"
+        "r = rk.simulate(s, (0.0, 0.01))\n"
+        "print(r.stats['nfev'])\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert int(proc.stdout.strip()) > 0

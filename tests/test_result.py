@@ -1,0 +1,41 @@
+"""Result: named signals, windows, atomic save and data-only load."""
+
+import numpy as np
+import pytest
+
+import rotorkit as rk
+
+
+@pytest.fixture(scope="module")
+def result():
+    system = rk.preset("al31f").compile()
+    return rk.simulate(system, (0.0, 0.02), sample_rate=5000.0)
+
+
+def test_named_signals(result):
+    assert result["x2"].shape == result.t.shape
+    np.testing.assert_array_equal(result["alpha2-alpha5"], result["alpha2"] - result["alpha5"])
+    with pytest.raises(rk.ParameterError, match="no signal 'z9'"):
+        result["z9"]
+    assert result.stats["nfev"] > 0 and result.stats["success"] is True
+
+
+def test_save_and_load_roundtrip(result, tmp_path):
+    path = result.save(tmp_path / "r.npz")
+    back = rk.load_result(path)
+    np.testing.assert_array_equal(back.y, result.y)
+    assert back.state_names == result.state_names and back.parameters == result.parameters
+    assert list(tmp_path.iterdir()) == [path]  # no temporary file left behind
+
+
+def test_load_rejects_foreign_files(tmp_path):
+    np.savez(tmp_path / "other.npz", meta=np.array('{"format": "something"}'), t=np.zeros(1), y=np.zeros((1, 1)))
+    with pytest.raises(rk.ParameterError, match="not a rotorkit result"):
+        rk.load_result(tmp_path / "other.npz")
+
+
+def test_plot_methods_return_axes(result):
+    ax = result.plot_orbit(2, clearance=1.34e-4)
+    assert ax.get_xlabel() == "x2 (µm)"
+    ax = result.plot_signals(["x2", "alpha2-alpha5"], scale=1e6)
+    assert len(ax.lines) == 2

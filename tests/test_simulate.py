@@ -1,0 +1,76 @@
+"""simulate(): restarts at discontinuities, sampling, failures with partial results."""
+
+import numpy as np
+import pytest
+
+import rotorkit as rk
+
+
+def jeffcott(speed=50.0):
+    return rk.Model([rk.Rotor(name="R", stations=(1,), speed=speed),
+                     rk.Disk(station=1, mass=1.0, radius=0.1, eccentricity=1e-4),
+                     rk.ElasticSupport(station=1, stiffness=1e4, damping=2.0)]).compile()
+
+
+def test_restarts_at_the_manoeuvre_steps():
+    system = rk.preset("al31f").compile()
+    result = rk.simulate(system, (1.9, 2.1), sample_rate=2000.0)
+    assert result.stats["segments"] == 2
+    assert result.t[0] == 1.9 and result.t[-1] == pytest.approx(2.1)
+    assert np.all(np.diff(result.t) > 0)  # no duplicated sample at t = 2
+    assert len(result.t) == 401
+
+
+def test_segment_sees_its_own_side_of_a_jump():
+    """A step load switched on at t0 must not act before t0 (restart, not straddle)."""
+    import sympy as sp
+
+    from rotorkit.symbolic.functions import window
+
+    model = rk.Model([rk.Rotor(name="R", stations=(1,), speed=0.0),
+                      rk.LumpedMass(station=1, mass=1.0),
+                      rk.ElasticSupport(station=1, stiffness=100.0),
+                      rk.Maneuver.profile(lambda t: 10 * window(t, 0.5, 10.0), lambda t: sp.S.Zero,
+                                          event_times=(0.5,))])
+    result = rk.simulate(model.compile(), (0.0, 1.0), rtol=1e-10, atol=1e-12, sample_rate=1000.0)
+    x = result["x1"]
+    assert np.all(x[result.t <= 0.5] == 0.0)
+    tau = result.t[result.t > 0.5] - 0.5
+    np.testing.assert_allclose(x[result.t > 0.5], 0.1 * (1 - np.cos(10 * tau)), atol=1e-9)
+
+
+class _Exploding:
+    """A system whose state runs away at t = 0.3 (duck-typed like rotorkit.System)."""
+
+    name, backend, parameters, time_events = "exploding", "python", {}, ()
+    state_names = ("x", "x_dot")
+    n_states = 2
+
+    def rhs(self, t, y):
+        return np.array([y[1], np.nan if t > 0.3 else -y[0]])
+
+
+def test_failure_raises_with_partial_result():
+    with pytest.raises(rk.SimulationError, match=r"failed at t = 0\.3") as info:
+        rk.simulate(_Exploding(), (0.0, 1.0), y0=[1.0, 0.0], sample_rate=100.0)
+    err = info.value
+    assert err.partial is not None and err.partial.t[-1] <= 0.31 and err.time == pytest.approx(0.3, abs=0.01)
+    assert np.all(np.isfinite(err.partial.y))
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"method": "Euler"}, "method='Euler' is unknown"),
+    ({"t_span": (1.0, 0.0)}, "end time must be after"),
+    ({"y0": [0.0]}, r"y0 has shape \(1,\)"),
+    ({"sample_rate": 0.0}, "sample_rate"),
+])
+def test_bad_arguments(kwargs, match):
+    kwargs = {"t_span": (0.0, 0.1), **kwargs}
+    with pytest.raises(rk.ParameterError, match=match):
+        rk.simulate(jeffcott(), **kwargs)
+
+
+def test_progress_is_reported():
+    seen = []
+    rk.simulate(jeffcott(), (0.0, 2.0), progress=lambda fraction, t: seen.append(fraction))
+    assert seen and seen[-1] == 1.0
