@@ -1,5 +1,7 @@
 """A model: a checked, immutable set of elements and the effects it holds."""
 
+import dataclasses
+import difflib
 import hashlib
 from collections import defaultdict
 
@@ -7,6 +9,7 @@ import sympy as sp
 
 from .elements import BallBearing, Disk, Element, ElasticSupport, LumpedMass, Maneuver, Rotor, RubStator, ShaftSegment
 from .errors import ParameterError, TopologyError
+from .units import to_si
 
 __all__ = ["Model"]
 
@@ -226,6 +229,35 @@ class Model:
     def parameters(self):
         """Parameter name -> SI value, in model order."""
         return {f"{e.label()}_{f}": v for e in self.elements for f, v in e.parameters().items()}
+
+    def with_values(self, **values):
+        """A copy with some parameters changed (``support1_stiffness=2e6``, SI or pint).
+
+        The changed elements are rebuilt, so each value goes through its
+        element's full validation (units, signs, cross-field rules such as a
+        roll that ends before it starts). The structure, hence the derived
+        equations and generated code, stays the same.
+        """
+        owners = {f"{e.label()}_{f}": (i, f) for i, e in enumerate(self.elements) for f in e.parameters()}
+        changes = defaultdict(dict)
+        for name, value in values.items():
+            if name not in owners:
+                near = difflib.get_close_matches(name, list(owners), n=3)
+                hint = f"did you mean {', '.join(near)}?" if near else f"parameters are: {', '.join(owners)}"
+                raise ParameterError(f"{self.name}: unknown parameter {name!r}; {hint}")
+            index, field_name = owners[name]
+            element = self.elements[index]
+            sign = element._units[field_name][1]
+            changes[index][field_name] = to_si(value, element.unit_of(field_name), name, sign=sign)
+        elements = list(self.elements)
+        for index, fields in changes.items():
+            try:
+                elements[index] = dataclasses.replace(elements[index], **fields)
+            except ParameterError as err:
+                label = elements[index].label()
+                names = ", ".join(f"{label}_{f} = {v!r}" for f, v in fields.items())
+                raise type(err)(f"{names}: {err}") from err
+        return Model(elements, name=self.name)
 
     @property
     def parameter_units(self):

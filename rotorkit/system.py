@@ -6,7 +6,6 @@ import os
 import numpy as np
 
 from .errors import ParameterError
-from .units import to_si
 
 __all__ = ["System", "compile_model", "available_backends"]
 
@@ -56,27 +55,30 @@ class System:
         Parameters followed by the parameter-only subexpressions.
     """
 
-    def __init__(self, *, name, structure_key, module, backend, values, units, signs, event_parameters,
-                 fixed_events, core):
-        self.name = name
-        self.structure_key = structure_key
+    def __init__(self, model, module, backend, core):
+        self.model = model
+        self.name = model.name
+        self.structure_key = model.structure_key
         self.backend = backend
         self.core = core
         self._module = module
-        self._units = units
-        self._signs = signs
-        self._event_parameters = event_parameters
-        self._fixed_events = tuple(fixed_events)
         self.parameter_names = tuple(module.PARAMETER_NAMES)
         self.state_names = tuple(module.STATE_NAMES)
         self.coordinate_names = self.state_names[: module.N_COORDINATES]
-        self._values = dict(values)
+        self._values = model.parameters
         p = np.array([self._values[n] for n in self.parameter_names], dtype=float)
-        self.prepared_parameters = module.prepare(p, np.empty(len(p) + module.N_DERIVED))
-        if not np.all(np.isfinite(self.prepared_parameters)):
-            bad = [n for n, v in zip(self.parameter_names, p) if not np.isfinite(v)]
-            raise ParameterError(f"{name}: parameters give non-finite derived values (check {bad or 'zero lengths'})")
-        self._plist = self.prepared_parameters.tolist()
+        with np.errstate(all="ignore"):
+            prepared = module.prepare(p, np.empty(len(p) + module.N_DERIVED))
+        bad = np.flatnonzero(~np.isfinite(prepared))
+        if bad.size:
+            culprits = sorted({n for k in bad - len(p) for n in module.DERIVED_PARAMETERS[k]})
+            raise ParameterError(
+                f"{self.name}: the parameters {', '.join(culprits)} = "
+                f"{', '.join(f'{self._values[n]:g}' for n in culprits)} give non-finite derived values "
+                "(a length or mass too close to zero?)"
+            )
+        self.prepared_parameters = prepared
+        self._plist = prepared.tolist()
 
     @property
     def n_states(self):
@@ -88,7 +90,7 @@ class System:
 
     @property
     def time_events(self):
-        times = [self._values[n] for n in self._event_parameters] + list(self._fixed_events)
+        times = [self._values[n] for n in self.model.time_event_parameters()] + list(self.model.fixed_time_events())
         return tuple(sorted(set(times)))
 
     def state_index(self, name):
@@ -114,17 +116,9 @@ class System:
         """A copy with some parameter values changed (no re-derivation, no recompilation).
 
         Values are SI floats or pint quantities; names as in :attr:`parameters`.
+        Each value is checked by its element (units, sign, cross-field rules).
         """
-        values = dict(self._values)
-        for name, value in overrides.items():
-            if name not in values:
-                near = difflib.get_close_matches(name, list(values), n=3)
-                hint = f"; did you mean {', '.join(near)}?" if near else ""
-                raise ParameterError(f"{self.name}: unknown parameter {name!r}{hint}")
-            values[name] = to_si(value, self._units[name], name, sign=self._signs.get(name))
-        return System(name=self.name, structure_key=self.structure_key, module=self._module, backend=self.backend,
-                      values=values, units=self._units, signs=self._signs, event_parameters=self._event_parameters,
-                      fixed_events=self._fixed_events, core=self.core)
+        return System(self.model.with_values(**overrides), self._module, self.backend, self.core)
 
     def initial_state(self, **values):
         """A state vector of zeros with some named entries set (``x2=1e-4``)."""
@@ -175,13 +169,7 @@ def compile_model(model, backend="auto"):
         module = load_module(code.source, key)
         _MODULES[key] = module
     core = _numba_core(module) if backend == "numba" else module.rhs
-    signs = {}
-    for e in model.elements:
-        for f, (_, sign) in e._units.items():
-            signs[f"{e.label()}_{f}"] = sign
-    return System(name=model.name, structure_key=key, module=module, backend=backend, values=model.parameters,
-                  units=model.parameter_units, signs=signs, event_parameters=model.time_event_parameters(),
-                  fixed_events=model.fixed_time_events(), core=core)
+    return System(model, module, backend, core)
 
 
 _MODULES = {}

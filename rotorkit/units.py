@@ -60,6 +60,11 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
         return None
     shown_unit = unit or "dimensionless"
     if _is_quantity(value):
+        if unit.startswith("rad") and "hertz" in str(value.units):
+            raise UnitError(
+                f"{name} = {value!r}: Hz is ambiguous for an angular quantity (pint takes 1 Hz = 1 rad/s); "
+                f"give {shown_unit}, rpm or turn/s (e.g. 50 Hz spin = 50 turn/s)"
+            )
         try:
             magnitude = value.to(unit or "dimensionless").magnitude
         except Exception as exc:  # pint's DimensionalityError and friends

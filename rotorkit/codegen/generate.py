@@ -238,6 +238,7 @@ def generate(eom, structure_key=""):
         f"N_DERIVED = {len(derived)}",
         f"STATE_NAMES = {tuple([str(q) for q in eom.coordinates] + [str(u) for u in eom.speeds])!r}",
         f"PARAMETER_NAMES = {tuple(str(p) for p in params)!r}",
+        f"DERIVED_PARAMETERS = {tuple(tuple(sorted(str(s) for s in e.free_symbols)) for e, _ in derived)!r}",
         "",
     ]
     source = "\n".join(header + prep + ["    return out", ""] + body + ["    return dydt", ""])

@@ -68,12 +68,16 @@ class Element:
                 f"{type(self).__name__}.name = {self.name!r} must be a Python identifier "
                 "(letters, digits, underscores), e.g. 'disk2'"
             )
-        for field_name, (unit, sign) in self._units.items():
+        for field_name, (_, sign) in self._units.items():
             value = getattr(self, field_name)
             if value is not None:
-                si = to_si(value, unit, f"{type(self).__name__}.{field_name}", sign=sign)
+                si = to_si(value, self.unit_of(field_name), f"{type(self).__name__}.{field_name}", sign=sign)
                 object.__setattr__(self, field_name, si)
         self._validate()
+
+    def unit_of(self, field_name) -> str:
+        """SI unit of a parameter field (override where it depends on structure)."""
+        return self._units[field_name][0]
 
     def _validate(self):
         """Element-specific checks beyond unit and sign (override)."""
@@ -97,7 +101,7 @@ class Element:
 
     def parameter_units(self) -> dict[str, str]:
         """Field -> SI unit string of each parameter."""
-        return {f: u for f, (u, _) in self._units.items() if getattr(self, f) is not None}
+        return {f: self.unit_of(f) for f in self._units if getattr(self, f) is not None}
 
     def contribute(self, ctx) -> Terms:
         """Return the element's :class:`Terms` (override)."""

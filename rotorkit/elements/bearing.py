@@ -65,7 +65,7 @@ class BallBearing(Element):
     exponent: float = 1.5
 
     _units = {
-        "contact_stiffness": ("", "positive"),  # N/m^n, n structural: checked as a plain number
+        "contact_stiffness": ("N/m**1.5", "positive"),  # N/m^n: see unit_of
         "clearance": ("m", "nonnegative"),
         "inner_race_radius": ("m", "positive"),
         "outer_race_radius": ("m", "positive"),
@@ -77,17 +77,11 @@ class BallBearing(Element):
         "outer_race_radius": "R_{o}",
     }
 
-    def __post_init__(self):
-        # C_b's unit depends on the exponent: convert a pint quantity here.
-        cb = self.contact_stiffness
-        if hasattr(cb, "to") and hasattr(cb, "magnitude"):
-            from ..units import to_si
-
-            n = self.exponent if isinstance(self.exponent, (int, float)) else 1.5
-            object.__setattr__(
-                self, "contact_stiffness", to_si(cb, f"N/m**{n}", "BallBearing.contact_stiffness", sign="positive")
-            )
-        Element.__post_init__(self)
+    def unit_of(self, field_name):
+        if field_name == "contact_stiffness":
+            n = self.exponent if isinstance(self.exponent, (int, float)) and not isinstance(self.exponent, bool) else 1.5
+            return f"N/m**{n:g}"
+        return Element.unit_of(self, field_name)
 
     def _validate(self):
         who = f"BallBearing {self.inner_station!r}-{self.outer_station!r}"
