@@ -89,7 +89,7 @@ def _cmd_run(args):
     print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
     try:
         result = simulate(system, (0.0, t_end), method=args.method, rtol=args.rtol, atol=args.atol,
-                          sample_rate=args.sample_rate, progress=_progress_printer())
+                          sample_rate=args.sample_rate, engine=args.engine, progress=_progress_printer())
     except SimulationError as err:
         if err.partial is not None and err.partial.t.size:
             out = Path(args.out or f"rotorkit-out/{args.preset}")
@@ -98,7 +98,7 @@ def _cmd_run(args):
         raise
     stats = result.stats
     print(f"simulated 0-{t_end:g} s in {stats['wall_time']:.2f} s: {stats['nfev']} RHS evaluations, "
-          f"method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
+          f"{stats['engine']} engine, method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
     out = Path(args.out or f"rotorkit-out/{args.preset}")
     written = _write_outputs(result, outputs, out)
     for p in written:
@@ -174,6 +174,8 @@ def build_parser():
     run.add_argument("--atol", type=float, default=1e-9)
     run.add_argument("--sample-rate", type=float, default=10_000.0, help="output samples per second")
     run.add_argument("--backend", default="auto", choices=("auto", "python", "numba"))
+    run.add_argument("--engine", default="auto", choices=("auto", "compiled", "scipy"),
+                     help="integration engine (auto: compiled when numba is available)")
     run.set_defaults(func=_cmd_run)
 
     eq = sub.add_parser("equations", help="print the derived equations of a preset")

@@ -3,22 +3,51 @@
 Integration runs segment by segment between the system's time
 discontinuities (manoeuvre start and end), restarting the integrator at
 each, so no step straddles a jump in the equations. Inside a segment the
-right-hand side is evaluated with the time nudged inside the segment at its
-ends, so each segment sees its own side of a jump.
+equations see time clamped just inside it (:meth:`System.within`), so each
+segment sees its own side of a jump.
+
+Two engines run a segment (both with scipy's error control):
+
+``"compiled"``
+    rotorkit's numba Dormand-Prince loop (:mod:`rotorkit.engines.rk_numba`),
+    RK45 and DOP853, the whole adaptive loop in compiled code. Needs the
+    numba back end.
+``"scipy"``
+    :func:`scipy.integrate.solve_ivp`, every scipy method.
+
+``engine="auto"`` takes the compiled engine when it applies.
 """
 
 import math
 import sys
 import time as _time
+from dataclasses import dataclass
 
 import numpy as np
 
 from .errors import ParameterError, SimulationError
 from .result import Result
 
-__all__ = ["simulate", "SCIPY_METHODS"]
+__all__ = ["simulate", "SCIPY_METHODS", "COMPILED_METHODS", "ENGINES"]
 
 SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+COMPILED_METHODS = ("RK45", "DOP853")
+ENGINES = ("auto", "compiled", "scipy")
+
+
+@dataclass
+class _Segment:
+    """What a segment runner returns."""
+
+    t: np.ndarray
+    y: np.ndarray
+    y_end: np.ndarray
+    t_reached: float
+    nfev: int
+    njev: int = 0
+    nlu: int = 0
+    success: bool = True
+    message: str = ""
 
 
 def _sample_times(t0, t1, sample_rate):
@@ -34,21 +63,6 @@ def _segments(t0, t1, events):
     return list(zip(cuts[:-1], cuts[1:]))
 
 
-class _Progress:
-    """Counts RHS evaluations; reports the time reached now and then."""
-
-    def __init__(self, t0, t1, report, every=20000):
-        self.t0, self.t1, self.report, self.every = t0, t1, report, every
-        self.count = 0
-        self.last_t = t0
-
-    def tick(self, t):
-        self.count += 1
-        self.last_t = t
-        if self.report is not None and self.count % self.every == 0:
-            self.report((t - self.t0) / (self.t1 - self.t0), t)
-
-
 def _print_progress(fraction, t):
     bar = "#" * int(30 * fraction)
     sys.stderr.write(f"\r  simulating [{bar:<30}] {100 * fraction:5.1f} %  t = {t:.3f} s")
@@ -57,9 +71,48 @@ def _print_progress(fraction, t):
         sys.stderr.write("\n")
 
 
+def _run_scipy(system, a, b, y, t_eval, options, tick):
+    from scipy.integrate import solve_ivp
+
+    rhs = system.within(a, b).rhs
+    last = [a]
+
+    def fun(t, yy):
+        last[0] = t
+        tick(t)
+        return rhs(t, yy)
+
+    sol = solve_ivp(fun, (a, b), y, t_eval=t_eval, **options)
+    ok = sol.status == 0 and np.all(np.isfinite(sol.y))
+    return _Segment(t=sol.t, y=sol.y, y_end=sol.y[:, -1] if sol.t.size else y, t_reached=b if ok else last[0],
+                    nfev=sol.nfev, njev=sol.njev, nlu=sol.nlu, success=bool(ok), message=sol.message)
+
+
+def _run_compiled(system, a, b, y, t_eval, options, tick):
+    from .engines.rk_numba import integrate
+
+    sol = integrate(system.core, a, b, y, system.within(a, b).prepared_parameters, t_eval, **options)
+    n = sol.n_samples_done
+    return _Segment(t=sol.t[:n], y=sol.y[:, :n], y_end=sol.y_reached, t_reached=sol.t_reached, nfev=sol.nfev,
+                    success=sol.success, message=sol.message)
+
+
+def _choose_engine(engine, system, method):
+    if engine not in ENGINES:
+        raise ParameterError(f"engine={engine!r} is unknown; expected one of {', '.join(ENGINES)}")
+    compiled_ok = system.backend == "numba" and method in COMPILED_METHODS
+    if engine == "auto":
+        return "compiled" if compiled_ok else "scipy"
+    if engine == "compiled" and not compiled_ok:
+        why = (f"method {method!r} (it runs {', '.join(COMPILED_METHODS)})" if method not in COMPILED_METHODS
+               else f"the {system.backend!r} back end (compile with backend='numba'; pip install 'rotorkit[fast]')")
+        raise ParameterError(f"engine='compiled' cannot run {why}; use engine='scipy'")
+    return engine
+
+
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
-             max_step=np.inf, progress=None):
-    """Integrate a compiled system over ``t_span`` with scipy's ``solve_ivp``.
+             max_step=np.inf, engine="auto", progress=None):
+    """Integrate a compiled system over ``t_span``.
 
     Parameters
     ----------
@@ -71,16 +124,19 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         Initial state, shape (n_states,) in ``system.state_names`` order;
         default: all zeros (at rest on the undeflected axis).
     method : str
-        A ``solve_ivp`` method: RK45, RK23, DOP853, Radau, BDF, LSODA.
+        RK45 or DOP853 (both engines); RK23, Radau, BDF, LSODA (scipy).
     rtol, atol : float
         Relative and absolute tolerances (``atol`` may be an array).
     sample_rate : float
         Output samples per second (Hz); samples come from dense output.
     max_step : float
         Largest step (s).
+    engine : {"auto", "compiled", "scipy"}
+        See the module docstring. ``auto``: compiled when the system has the
+        numba back end and the method is RK45 or DOP853.
     progress : None, bool or callable
         ``True`` prints a progress bar to stderr; a callable is called as
-        ``progress(fraction, t)``.
+        ``progress(fraction, t)`` (per segment with the compiled engine).
 
     Returns
     -------
@@ -92,10 +148,9 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         The integration failed; ``err.partial`` holds the samples before the
         failure and ``err.time`` the time reached.
     """
-    from scipy.integrate import solve_ivp
-
     if method not in SCIPY_METHODS:
         raise ParameterError(f"method={method!r} is unknown; expected one of {', '.join(SCIPY_METHODS)}")
+    engine = _choose_engine(engine, system, method)
     t0, t1 = (float(v) for v in t_span)
     if not t1 > t0:
         raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
@@ -107,52 +162,52 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     if not np.all(np.isfinite(y)):
         raise ParameterError("y0 holds non-finite values")
     report = _print_progress if progress is True else (progress or None)
-    counter = _Progress(t0, t1, report)
+    count = [0]
+
+    def tick(t):
+        count[0] += 1
+        if report is not None and count[0] % 20000 == 0:
+            report((t - t0) / (t1 - t0), t)
+
+    options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
+    run = _run_compiled if engine == "compiled" else _run_scipy
     samples = _sample_times(t0, t1, sample_rate)
-    out_t, out_y, stats = [], [], {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0}
-    rhs = system.rhs
+    out_t, out_y = [], []
+    stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0}
     start_wall = _time.perf_counter()
     for k, (a, b) in enumerate(_segments(t0, t1, system.time_events)):
-        a_in, b_in = np.nextafter(a, b), np.nextafter(b, a)
-
-        def fun(t, yy, a=a, b=b, a_in=a_in, b_in=b_in):
-            counter.tick(t)
-            return rhs(a_in if t <= a else (b_in if t >= b else t), yy)
-
         mask = (samples >= a) & (samples <= b) if k == 0 else (samples > a) & (samples <= b)
-        sol = solve_ivp(fun, (a, b), y, method=method, rtol=rtol, atol=atol, t_eval=samples[mask],
-                        max_step=max_step)
-        stats["nfev"] += sol.nfev
-        stats["njev"] += sol.njev
-        stats["nlu"] += sol.nlu
+        seg = run(system, a, b, y, samples[mask], options, tick)
+        for key in ("nfev", "njev", "nlu"):
+            stats[key] += getattr(seg, key)
         stats["segments"] += 1
-        out_t.append(sol.t)
-        out_y.append(sol.y)
-        if sol.status != 0 or not np.all(np.isfinite(sol.y)):
-            partial = _result(system, out_t, out_y, stats, method, rtol, atol, start_wall, False, sol.message)
-            reached = counter.last_t
-            raise SimulationError(_failure_message(system, sol, reached, a, b), partial=partial, time=reached)
-        y = sol.y[:, -1]
-    if report is not None:
-        report(1.0, t1)
-    return _result(system, out_t, out_y, stats, method, rtol, atol, start_wall, True, "success")
+        out_t.append(seg.t)
+        out_y.append(seg.y)
+        if not seg.success:
+            partial = _result(system, out_t, out_y, stats, options, engine, start_wall, False, seg.message)
+            raise SimulationError(_failure_message(system, seg, a, b), partial=partial, time=seg.t_reached)
+        y = seg.y_end
+        if report is not None:
+            report((b - t0) / (t1 - t0), b)
+    return _result(system, out_t, out_y, stats, options, engine, start_wall, True, "success")
 
 
-def _result(system, out_t, out_y, stats, method, rtol, atol, start_wall, success, message):
+def _result(system, out_t, out_y, stats, options, engine, start_wall, success, message):
     t = np.concatenate(out_t) if out_t else np.empty(0)
     y = np.concatenate(out_y, axis=1) if out_y else np.empty((system.n_states, 0))
-    full = dict(stats, method=method, rtol=rtol, atol=atol if np.isscalar(atol) else list(atol),
-                wall_time=_time.perf_counter() - start_wall, backend=system.backend, engine="scipy",
+    atol = options["atol"]
+    full = dict(stats, method=options["method"], rtol=options["rtol"], atol=atol if np.isscalar(atol) else list(atol),
+                wall_time=_time.perf_counter() - start_wall, backend=system.backend, engine=engine,
                 success=success, message=message)
     return Result(t=t, y=y, state_names=system.state_names, parameters=system.parameters, stats=full,
                   name=system.name)
 
 
-def _failure_message(system, sol, reached, a, b):
-    y_last = sol.y[:, -1] if sol.t.size else None
-    lines = [f"{system.name}: integration failed at t = {reached:.6g} s (segment {a:g}-{b:g} s): {sol.message}"]
-    if y_last is not None:
-        lines.append(f"last sample at t = {sol.t[-1]:.6g} s")
+def _failure_message(system, seg, a, b):
+    lines = [f"{system.name}: integration failed at t = {seg.t_reached:.6g} s (segment {a:g}-{b:g} s): {seg.message}"]
+    if seg.t.size:
+        y_last = seg.y[:, -1]
+        lines.append(f"last sample at t = {seg.t[-1]:.6g} s")
         bad = [system.state_names[i] for i in np.flatnonzero(~np.isfinite(y_last))]
         if bad:
             lines.append(f"non-finite states: {', '.join(bad)}")

@@ -1,5 +1,6 @@
 """The compiled numeric system: ``rhs(t, y)`` in scipy's ``fun(t, y)`` form."""
 
+import copy
 import difflib
 import os
 
@@ -68,8 +69,8 @@ class System:
         self._values = model.parameters
         p = np.array([self._values[n] for n in self.parameter_names], dtype=float)
         with np.errstate(all="ignore"):
-            prepared = module.prepare(p, np.empty(len(p) + module.N_DERIVED))
-        bad = np.flatnonzero(~np.isfinite(prepared))
+            prepared = module.prepare(p, np.empty(module.N_PREPARED))
+        bad = np.flatnonzero(~np.isfinite(prepared[:-2]))
         if bad.size:
             culprits = sorted({n for k in bad - len(p) for n in module.DERIVED_PARAMETERS[k]})
             raise ParameterError(
@@ -111,6 +112,19 @@ class System:
         dydt = [0.0] * self.n_states
         self.core(float(t), np.asarray(y, dtype=float).tolist(), self._plist, dydt)
         return np.array(dydt)
+
+    def within(self, start, end):
+        """A copy whose equations see time clamped just inside ``[start, end]``.
+
+        Used per integration segment between time discontinuities: at the
+        segment's ends the equations take their values from inside it.
+        """
+        view = copy.copy(self)
+        prepared = self.prepared_parameters.copy()
+        prepared[-2], prepared[-1] = np.nextafter(start, end), np.nextafter(end, start)
+        view.prepared_parameters = prepared
+        view._plist = prepared.tolist()
+        return view
 
     def with_parameters(self, **overrides):
         """A copy with some parameter values changed (no re-derivation, no recompilation).

@@ -46,6 +46,9 @@ class _Exploding:
     state_names = ("x", "x_dot")
     n_states = 2
 
+    def within(self, start, end):
+        return self
+
     def rhs(self, t, y):
         return np.array([y[1], np.nan if t > 0.3 else -y[0]])
 
@@ -74,3 +77,49 @@ def test_progress_is_reported():
     seen = []
     rk.simulate(jeffcott(), (0.0, 2.0), progress=lambda fraction, t: seen.append(fraction))
     assert seen and seen[-1] == 1.0
+
+
+numba_only = pytest.mark.skipif("numba" not in rk.available_backends(), reason="the compiled engine needs numba")
+
+
+@numba_only
+@pytest.mark.parametrize("method", ["RK45", "DOP853"])
+def test_engines_agree_on_a_short_preset_run(method):
+    system = rk.preset("al31f").compile(backend="numba")
+    span = (1.95, 2.1)  # across the roll start
+    ref = rk.simulate(system, span, method="DOP853", rtol=1e-12, atol=1e-15, engine="scipy")
+    a = rk.simulate(system, span, method=method, rtol=1e-8, atol=1e-12, engine="compiled")
+    b = rk.simulate(system, span, method=method, rtol=1e-8, atol=1e-12, engine="scipy")
+    assert a.stats["engine"] == "compiled" and b.stats["engine"] == "scipy"
+    scale = np.abs(ref["x2"]).max()
+    for res in (a, b):
+        np.testing.assert_array_equal(res.t, ref.t)
+        assert np.abs(res["x2"] - ref["x2"]).max() < 1e-5 * scale
+        assert np.abs(res["alpha2-alpha5"] - ref["alpha2-alpha5"]).max() < 1e-5 * np.abs(ref["alpha2-alpha5"]).max()
+    # same error control: step counts within a few percent
+    assert abs(a.stats["nfev"] - b.stats["nfev"]) <= 0.05 * b.stats["nfev"]
+
+
+@numba_only
+def test_compiled_engine_on_jeffcott_closed_form():
+    """Steady unbalance amplitude e r^2 / sqrt((1 - r^2)^2 + (2 zeta r)^2) with the compiled engine."""
+    m, k, c, e = 2.0, 2e4, 20.0, 1e-4
+    wn, zeta = np.sqrt(k / m), c / (2 * np.sqrt(k * m))
+    for ratio in (0.5, 1.5):
+        system = rk.Model([rk.Rotor(name="R", stations=(1,), speed=ratio * wn),
+                           rk.Disk(station=1, mass=m, radius=0.1, eccentricity=e),
+                           rk.ElasticSupport(station=1, stiffness=k, damping=c)]).compile(backend="numba")
+        res = rk.simulate(system, (0.0, 3.0), rtol=1e-9, atol=1e-13, engine="compiled")
+        late = res.window(2.5, 3.0)
+        radius = np.hypot(late["x1"], late["y1"])
+        expected = e * ratio**2 / np.sqrt((1 - ratio**2) ** 2 + (2 * zeta * ratio) ** 2)
+        np.testing.assert_allclose(radius, expected, rtol=1e-5)
+
+
+@numba_only
+def test_compiled_engine_failure_is_explained():
+    system = rk.preset("al31f").compile(backend="numba")
+    with pytest.raises(rk.ParameterError, match="engine='compiled' cannot run method 'Radau'"):
+        rk.simulate(system, (0.0, 0.01), method="Radau", engine="compiled")
+    with pytest.raises(rk.ParameterError, match="engine='warp' is unknown"):
+        rk.simulate(system, (0.0, 0.01), engine="warp")

@@ -9,7 +9,10 @@ compile unchanged:
     they are computed once per parameter set, not at every evaluation.
 ``rhs(t, y, p, dydt)``
     ``y = [q, q']``; writes ``dydt = [q', q'']`` with ``p`` the prepared
-    vector. ``M(q, t) q'' = f`` is solved numerically block by block: the
+    vector. Its last two entries bound the time the equations see
+    (``t`` is clamped to ``[p[-2], p[-1]]``): an integrator working on one
+    segment between time discontinuities sets them just inside the segment,
+    so a step ending exactly on a jump still sees its own side of it. ``M(q, t) q'' = f`` is solved numerically block by block: the
     mass matrix splits into independent blocks (a 3x3 block per eccentric
     disk with torsion, 1x1 elsewhere); each block is solved by unrolled
     Gaussian elimination without pivoting, which is stable because M is
@@ -201,10 +204,13 @@ def generate(eom, structure_key=""):
         prep.append(f"    {printer.doprint(sym)} = {printer.doprint(e)}")
     for k, e in enumerate(prep_exprs):
         prep.append(f"    out[{n_params + k}] = {printer.doprint(e)}")
+    n_prepared = n_params + len(derived)
+    prep.append(f"    out[{n_prepared}] = -1e300  # time window of the equations, see rhs()")
+    prep.append(f"    out[{n_prepared + 1}] = 1e300")
 
     # rhs(): the per-evaluation work
     used = set().union(*(e.free_symbols for e in reduced), *(e.free_symbols for _, e in replacements)) if exprs else set()
-    body = ["def rhs(t, y, p, dydt):"]
+    body = ["def rhs(t, y, p, dydt):", f"    t = min(max(t, p[{n_prepared}]), p[{n_prepared + 1}])"]
     for i, (q, u) in enumerate(zip(eom.coordinates, eom.speeds)):
         body.append(f"    u{i} = y[{n + i}]")
         body.append(f"    dydt[{i}] = u{i}")
@@ -236,10 +242,11 @@ def generate(eom, structure_key=""):
         f"N_COORDINATES = {n}",
         f"N_PARAMETERS = {n_params}",
         f"N_DERIVED = {len(derived)}",
+        f"N_PREPARED = {len(derived) + n_params + 2}",
         f"STATE_NAMES = {tuple([str(q) for q in eom.coordinates] + [str(u) for u in eom.speeds])!r}",
         f"PARAMETER_NAMES = {tuple(str(p) for p in params)!r}",
         f"DERIVED_PARAMETERS = {tuple(tuple(sorted(str(s) for s in e.free_symbols)) for e, _ in derived)!r}",
         "",
     ]
-    source = "\n".join(header + prep + ["    return out", ""] + body + ["    return dydt", ""])
+    source = "\n".join(header + prep + ["    return out", ""] + body + [""])
     return GeneratedCode(source=source, n_coordinates=n, n_parameters=n_params, n_derived=len(derived), blocks=blocks)
