@@ -107,7 +107,7 @@ def _cmd_run(args):
 
 
 def _write_outputs(result, outputs, out):
-    from .codegen.loader import atomic_write_text
+    from .files import atomic_write_text
     from .plotting.basic import plot_orbit, plot_signals
 
     out.mkdir(parents=True, exist_ok=True)
@@ -132,7 +132,7 @@ def _write_outputs(result, outputs, out):
 def _save_figure(fig, path):
     import io
 
-    from .codegen.loader import atomic_write_bytes
+    from .files import atomic_write_bytes
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=120)
@@ -156,6 +156,17 @@ def _cmd_list(args):
 
     for name in list_presets():
         print(f"{name}: {preset_module(name).DESCRIPTION}")
+    return 0
+
+
+def _cmd_cache(args):
+    from .codegen import cache
+
+    if args.action == "clear":
+        print(f"removed {cache.clear()} cached model(s) from {cache.cache_dir()}")
+    else:
+        folder, count, size = cache.info()
+        print(f"{folder}: {count} cached model(s), {size / 1e6:.1f} MB")
     return 0
 
 
@@ -183,6 +194,10 @@ def build_parser():
     eq.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     eq.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
     eq.set_defaults(func=_cmd_equations)
+
+    ca = sub.add_parser("cache", help="show or clear the cache of generated models")
+    ca.add_argument("action", choices=("info", "clear"))
+    ca.set_defaults(func=_cmd_cache)
 
     ls = sub.add_parser("list", help="list the bundled presets")
     ls.set_defaults(func=_cmd_list)

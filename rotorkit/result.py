@@ -93,7 +93,7 @@ class Result:
         The format is documented in ``docs/results.md``; it holds no pickled
         objects and is read back with :func:`load_result`.
         """
-        from .codegen.loader import atomic_write_bytes
+        from .files import atomic_write_bytes
 
         meta = {"format": FILE_FORMAT, "name": self.name, "state_names": list(self.state_names),
                 "parameters": self.parameters, "stats": _jsonable(self.stats)}

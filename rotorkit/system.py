@@ -161,6 +161,9 @@ def _numba_core(module):
 def compile_model(model, backend="auto"):
     """Derive (once per structure), generate and load the RHS of ``model``.
 
+    The generated module is cached on disk by the model's structure
+    (:mod:`rotorkit.codegen.cache`): a warm start derives nothing.
+
     Parameters
     ----------
     model : rotorkit.Model
@@ -172,16 +175,16 @@ def compile_model(model, backend="auto"):
     -------
     System
     """
-    from .codegen.generate import generate
-    from .codegen.loader import load_module
+    from .codegen import cache
 
     backend = _resolve_backend(backend)
     key = model.structure_key
-    module = _MODULES.get(key)
+    module = _MODULES.get(key) or cache.load(key)
     if module is None:
-        code = generate(model.equations(), key)
-        module = load_module(code.source, key)
-        _MODULES[key] = module
+        from .codegen.generate import generate
+
+        module = cache.store(key, generate(model.equations(), key).source)
+    _MODULES[key] = module
     core = _numba_core(module) if backend == "numba" else module.rhs
     return System(model, module, backend, core)
 
