@@ -100,7 +100,7 @@ class Result:
         import io
 
         buf = io.BytesIO()
-        np.savez_compressed(buf, t=self.t, y=self.y, meta=np.array(json.dumps(meta)))
+        np.savez(buf, t=self.t, y=self.y, meta=np.array(json.dumps(meta)))
         path = Path(path)
         atomic_write_bytes(path, buf.getvalue())
         return path

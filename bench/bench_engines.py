@@ -1,0 +1,123 @@
+"""Engines, methods and start-up, measured in one run (AL-31F preset, 0-6 s).
+
+Run: ``python bench/bench_engines.py`` (``--slow`` adds scipy's LSODA,
+Radau and BDF, which take minutes). Prints ratios measured in this run.
+
+1. The generated RHS against the hand-written compiled one, both driven by
+   the same compiled Dormand-Prince loop over the same run: the cost of an
+   evaluation inside compiled code, where call overhead does not hide it.
+2. Engines and methods at the default tolerance.
+3. Cold start (empty rotorkit and numba caches) against warm start of
+   ``rotorkit run al31f``.
+"""
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import al31f_handwritten as hw  # noqa: E402
+
+import rotorkit as rk  # noqa: E402
+from rotorkit.engines.rk_numba import integrate  # noqa: E402
+
+SPAN = (0.0, 6.0)
+
+
+def timed(fn, repeat=5):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), out
+
+
+def segmented(core, p_for, events, rtol=1e-6, atol=1e-9):
+    """The preset run in the compiled loop, restarting at the roll steps like simulate()."""
+    cuts = [SPAN[0], *events, SPAN[1]]
+    y, nfev = np.zeros(32), 0
+    for a, b in zip(cuts[:-1], cuts[1:]):
+        sol = integrate(core, a, b, y, p_for(a, b), np.array([b]), rtol=rtol, atol=atol)
+        assert sol.success, sol.message
+        y, nfev = sol.y_reached, nfev + sol.nfev
+    return nfev, y
+
+
+def bench_rhs_in_loop():
+    system = rk.preset("al31f").compile(backend="numba")
+    generated = lambda: segmented(system.core, lambda a, b: system.within(a, b).prepared_parameters,  # noqa: E731
+                                  system.time_events)
+    P = hw.params()
+    hand_core, packed = hw.make_rhs_numba(), hw.pack(P)
+    # the hand-written core switches the roll at t >= roll_end; nudge like System.within does
+    hand = lambda: segmented(hand_core, lambda a, b: packed, (2.0, 4.0))  # noqa: E731
+    generated(), hand()  # compile
+    t_gen, (n_gen, y_gen) = timed(generated)
+    t_hand, (n_hand, y_hand) = timed(hand)
+    print("\n1. RHS inside the compiled DOP853 loop, AL-31F 0-6 s (median of 5):")
+    print(f"   generated RHS:    {t_gen:.3f} s, {n_gen} evaluations, {t_gen / n_gen * 1e9:6.0f} ns per evaluation+step")
+    print(f"   hand-written RHS: {t_hand:.3f} s, {n_hand} evaluations, {t_hand / n_hand * 1e9:6.0f} ns per evaluation+step")
+    print(f"   ratio generated / hand-written (per evaluation): {(t_gen / n_gen) / (t_hand / n_hand):.2f}")
+    return t_hand
+
+
+def bench_engines(slow, t_hand):
+    system = rk.preset("al31f").compile(backend="numba")
+    rows = [("compiled", "DOP853"), ("compiled", "RK45"), ("scipy", "DOP853"), ("scipy", "RK45")]
+    if slow:
+        rows += [("scipy", "LSODA"), ("scipy", "Radau"), ("scipy", "BDF")]
+    print("\n2. simulate(), AL-31F 0-6 s, rtol 1e-6, atol 1e-9, numba RHS:")
+    rk.simulate(system, (0.0, 0.01))  # load the engine
+    results = {}
+    for engine, method in rows:
+        repeat = 3 if engine == "compiled" else 1
+        wall, res = timed(lambda: rk.simulate(system, SPAN, engine=engine, method=method), repeat=repeat)
+        results[(engine, method)] = wall
+        print(f"   {engine:9s} {method:7s} {wall:8.2f} s  {res.stats['nfev']:9d} evaluations  "
+              f"{wall / t_hand:7.1f} x the hand-written compiled reference loop")
+    base = results[("compiled", "DOP853")]
+    print(f"   scipy DOP853 / compiled DOP853: {results[('scipy', 'DOP853')] / base:.1f}")
+
+
+def run_cli(env, out):
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "rotorkit.cli", "run", "al31f", "--out", out],
+                          env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    assert proc.returncode == 0, proc.stderr
+    line = next(s for s in proc.stdout.splitlines() if s.startswith("simulated"))
+    sim = float(line.split(" in ")[1].split(" s")[0])
+    return wall, sim
+
+
+def bench_start():
+    print("\n3. `rotorkit run al31f` (0-6 s, plots and signals written), cold vs warm:")
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, ROTORKIT_CACHE_DIR=f"{tmp}/rk", NUMBA_CACHE_DIR=f"{tmp}/numba", MPLBACKEND="Agg")
+        cold = run_cli(env, f"{tmp}/out")
+        warm = [run_cli(env, f"{tmp}/out") for _ in range(3)]
+    w_wall = statistics.median(w for w, _ in warm)
+    w_sim = statistics.median(s for _, s in warm)
+    print(f"   cold: {cold[0]:.2f} s total, of which simulate {cold[1]:.2f} s")
+    print(f"   warm: {w_wall:.2f} s total, of which simulate {w_sim:.2f} s (median of 3)")
+    print(f"   cold / warm total: {cold[0] / w_wall:.1f}")
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-c", "import rotorkit, numba, matplotlib.figure"], check=True)
+    print(f"   (python -c 'import rotorkit, numba, matplotlib.figure': {time.perf_counter() - t0:.2f} s)")
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--slow", action="store_true", help="also scipy LSODA, Radau, BDF (minutes)")
+    args = parser.parse_args()
+    t_hand = bench_rhs_in_loop()
+    bench_engines(args.slow, t_hand)
+    bench_start()
