@@ -69,3 +69,23 @@ def test_python_path_without_numba():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert int(proc.stdout.strip()) > 0
+
+
+def test_accuracy_command_writes_table_and_figures(tmp_path, capsys):
+    code = main(["accuracy", "al31f", "--t-end", "0.3", "--window", "0.1,0.3", "--cases", "scipy:RK45",
+                 "--tolerances", "1e-3", "--reference-rtol", "1e-8", "--out", str(tmp_path)])
+    assert code == 0
+    out = capsys.readouterr().out
+    assert "reference took" in out and "scipy     RK45" in out
+    for name in ("accuracy.csv", "work_precision.png", "error_growth.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    assert (tmp_path / "accuracy.csv").read_text().count("\n") == 2
+
+
+@pytest.mark.parametrize("args, match", [
+    (["accuracy", "al31f", "--cases", "gpu:DOP853"], "expected engine:method"),
+    (["accuracy", "al31f", "--tolerances", "small"], "comma-separated numbers"),
+])
+def test_accuracy_argument_errors(args, match, capsys):
+    assert main(args) == 2
+    assert match in capsys.readouterr().err
