@@ -147,7 +147,10 @@ def _cmd_equations(args):
     known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
     model = module.build(**dict(parse_assignment(s, known) for s in args.set))
     eom = model.equations()
-    print(eom.latex() if args.latex else eom)
+    if args.latex:
+        print(eom.latex())
+    else:
+        print(f"{model!r}\n\n{model.parameter_table()}\n\n{eom}")
     return 0
 
 

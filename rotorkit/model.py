@@ -264,6 +264,16 @@ class Model:
         """Parameter name -> SI unit string."""
         return {f"{e.label()}_{f}": u for e in self.elements for f, u in e.parameter_units().items()}
 
+    def parameter_table(self):
+        """The parameters as text: name, SI value, unit, element (one line each)."""
+        units = self.parameter_units
+        owner = {f"{e.label()}_{f}": type(e).__name__ for e in self.elements for f in e.parameters()}
+        width = max(len(n) for n in units)
+        lines = [f"{'parameter':<{width}s}  {'value':>12s}  {'unit':<10s}  element"]
+        for name, value in self.parameters.items():
+            lines.append(f"{name:<{width}s}  {value:12.6g}  {units[name] or '-':<10s}  {owner[name]}")
+        return "\n".join(lines)
+
     @property
     def effects(self):
         """The effects this model holds (only these contribute terms and states)."""

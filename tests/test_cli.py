@@ -53,6 +53,7 @@ def test_equations_prints_the_model(capsys):
     assert main(["equations", "al31f", "--set", "rub=false"]) == 0
     out = capsys.readouterr().out
     assert "16 coordinates" in out and "rub2" not in out and "M[x2, alpha2]" in out
+    assert "disk2_mass" in out and "kg" in out  # the parameter table
 
 
 def test_python_path_without_numba():
