@@ -71,30 +71,80 @@ def _print_progress(fraction, t):
         sys.stderr.write("\n")
 
 
-def _run_scipy(system, a, b, y, t_eval, options, tick):
-    from scipy.integrate import solve_ivp
+def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
+    """One segment with a scipy OdeSolver, stepped here (as solve_ivp does) to keep
+    every sample on failure, check states and honour the wall-time limit."""
+    import scipy.integrate as si
 
     rhs = system.within(a, b).rhs
-    last = [a]
 
     def fun(t, yy):
-        last[0] = t
         tick(t)
         return rhs(t, yy)
 
-    sol = solve_ivp(fun, (a, b), y, t_eval=t_eval, **options)
-    ok = sol.status == 0 and np.all(np.isfinite(sol.y))
-    return _Segment(t=sol.t, y=sol.y, y_end=sol.y[:, -1] if sol.t.size else y, t_reached=b if ok else last[0],
-                    nfev=sol.nfev, njev=sol.njev, nlu=sol.nlu, success=bool(ok), message=sol.message)
+    opts = {k: v for k, v in options.items() if k != "method"}
+    solver = getattr(si, options["method"])(fun, a, y, b, **opts)
+    ts, ys = [], []
+    if t_eval.size and t_eval[0] == a:
+        ts.append(np.array([a]))
+        ys.append(y[:, None].copy())
+    k = int(ts[0].size) if ts else 0
+    message = "success"
+    while solver.status == "running":
+        step_message = solver.step()
+        if solver.status == "failed":
+            message = step_message
+            break
+        if not np.all(np.isfinite(solver.y)):
+            message = "non-finite state (NaN or inf) after a step"
+            break
+        stop = np.searchsorted(t_eval, solver.t, side="right")
+        if stop > k:
+            ts.append(t_eval[k:stop])
+            ys.append(solver.dense_output()(t_eval[k:stop]).reshape(len(y), -1))
+            k = stop
+        if deadline is not None and _time.perf_counter() > deadline:
+            message = "wall-time limit reached"
+            break
+    ok = solver.status == "finished"
+    t_out = np.concatenate(ts) if ts else np.empty(0)
+    y_out = np.concatenate(ys, axis=1) if ys else np.empty((len(y), 0))
+    return _Segment(t=t_out, y=y_out, y_end=solver.y.copy(), t_reached=float(solver.t), nfev=solver.nfev,
+                    njev=solver.njev, nlu=solver.nlu, success=ok, message=message if not ok else "success")
 
 
-def _run_compiled(system, a, b, y, t_eval, options, tick):
+def _run_compiled(system, a, b, y, t_eval, options, tick, deadline):
+    """One segment in the compiled loop; with a wall-time limit it runs in chunks and
+    checks the clock between them (each chunk restarts the step-size control)."""
     from .engines.rk_numba import integrate
 
-    sol = integrate(system.core, a, b, y, system.within(a, b).prepared_parameters, t_eval, **options)
-    n = sol.n_samples_done
-    return _Segment(t=sol.t[:n], y=sol.y[:, :n], y_end=sol.y_reached, t_reached=sol.t_reached, nfev=sol.nfev,
-                    success=sol.success, message=sol.message)
+    p = system.within(a, b).prepared_parameters
+    if deadline is None:
+        sol = integrate(system.core, a, b, y, p, t_eval, **options)
+        n = sol.n_samples_done
+        return _Segment(t=sol.t[:n], y=sol.y[:, :n], y_end=sol.y_reached, t_reached=sol.t_reached,
+                        nfev=sol.nfev, success=sol.success, message=sol.message)
+    ts, ys, nfev, start, chunk = [], [], 0, a, (b - a) / 100
+    while True:
+        end = min(start + chunk, b)
+        if b - end < 1e-9 * max(1.0, abs(b)):
+            end = b
+        mask = (t_eval > start) & (t_eval <= end) if ts or start > a else (t_eval >= start) & (t_eval <= end)
+        wall = _time.perf_counter()
+        sol = integrate(system.core, start, end, y, p, t_eval[mask], **options)
+        wall = _time.perf_counter() - wall
+        n = sol.n_samples_done
+        ts.append(sol.t[:n])
+        ys.append(sol.y[:, :n])
+        nfev += sol.nfev
+        y = sol.y_reached
+        done = sol.success and end == b
+        if not sol.success or done or _time.perf_counter() > deadline:
+            message = sol.message if not sol.success else ("success" if done else "wall-time limit reached")
+            return _Segment(t=np.concatenate(ts), y=np.concatenate(ys, axis=1), y_end=y, t_reached=sol.t_reached,
+                            nfev=nfev, success=done, message=message)
+        chunk = (end - start) * min(10.0, max(0.5, 0.2 / max(wall, 1e-6)))  # aim at ~0.2 s of wall time
+        start = end
 
 
 def _choose_engine(engine, system, method):
@@ -111,7 +161,7 @@ def _choose_engine(engine, system, method):
 
 
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
-             max_step=np.inf, engine="auto", progress=None):
+             max_step=np.inf, engine="auto", progress=None, time_limit=None):
     """Integrate a compiled system over ``t_span``.
 
     Parameters
@@ -137,6 +187,9 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     progress : None, bool or callable
         ``True`` prints a progress bar to stderr; a callable is called as
         ``progress(fraction, t)`` (per segment with the compiled engine).
+    time_limit : float, optional
+        Wall-time limit (s). When reached, the run stops cleanly with a
+        :class:`SimulationError` holding the samples computed so far.
 
     Returns
     -------
@@ -169,15 +222,18 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         if report is not None and count[0] % 20000 == 0:
             report((t - t0) / (t1 - t0), t)
 
+    if time_limit is not None and not time_limit > 0:
+        raise ParameterError(f"time_limit={time_limit!r} must be > 0 (s) or None")
     options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
     run = _run_compiled if engine == "compiled" else _run_scipy
     samples = _sample_times(t0, t1, sample_rate)
     out_t, out_y = [], []
     stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0}
     start_wall = _time.perf_counter()
+    deadline = None if time_limit is None else start_wall + time_limit
     for k, (a, b) in enumerate(_segments(t0, t1, system.time_events)):
         mask = (samples >= a) & (samples <= b) if k == 0 else (samples > a) & (samples <= b)
-        seg = run(system, a, b, y, samples[mask], options, tick)
+        seg = run(system, a, b, y, samples[mask], options, tick, deadline)
         for key in ("nfev", "njev", "nlu"):
             stats[key] += getattr(seg, key)
         stats["segments"] += 1

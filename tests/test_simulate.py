@@ -123,3 +123,23 @@ def test_compiled_engine_failure_is_explained():
         rk.simulate(system, (0.0, 0.01), method="Radau", engine="compiled")
     with pytest.raises(rk.ParameterError, match="engine='warp' is unknown"):
         rk.simulate(system, (0.0, 0.01), engine="warp")
+
+
+@pytest.mark.parametrize("engine", ["scipy"] + (["compiled"] if "numba" in rk.available_backends() else []))
+def test_wall_time_limit_stops_cleanly_with_partial_result(engine):
+    system = rk.preset("al31f").compile()
+    with pytest.raises(rk.SimulationError, match="wall-time limit reached") as info:
+        rk.simulate(system, (0.0, 30.0), engine=engine, time_limit=0.3)
+    partial = info.value.partial
+    assert partial is not None and partial.t.size > 10 and np.all(np.isfinite(partial.y))
+    assert 0.0 < info.value.time < 30.0 and partial.t[-1] <= info.value.time + 1e-12
+    assert partial.stats["wall_time"] < 5.0
+
+
+def test_scipy_engine_keeps_samples_before_a_failure():
+    with pytest.raises(rk.SimulationError) as info:
+        rk.simulate(_Exploding(), (0.0, 1.0), y0=[1.0, 0.0], sample_rate=100.0, engine="scipy")
+    partial = info.value.partial
+    # samples up to the blow-up are kept, and they are the exact solution cos(t)
+    assert partial.t.size >= 25
+    np.testing.assert_allclose(partial["x"], np.cos(partial.t), atol=1e-4)

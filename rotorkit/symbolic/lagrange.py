@@ -66,6 +66,12 @@ class EquationsOfMotion:
         F is their sum.
     latex_names : dict
         Symbol -> LaTeX name used for rendering.
+    kinetic, potential, dissipation : sympy.Expr
+        The model's total T(q, q', t), V(q, t) and Rayleigh D(q') (for
+        energy balances: the Jacobi integral ``h = q' dT/dq' - T + V``
+        changes at the rate ``-dL/dt - 2 D + Q . q'``).
+    loads : sympy.ImmutableMatrix
+        Sum of the elements' generalised loads Q (n x 1).
     """
 
     t: sp.Symbol
@@ -78,6 +84,10 @@ class EquationsOfMotion:
     damping: sp.ImmutableMatrix
     forces: dict = field(default_factory=dict)
     latex_names: dict = field(default_factory=dict)
+    kinetic: sp.Expr = sp.S.Zero
+    potential: sp.Expr = sp.S.Zero
+    dissipation: sp.Expr = sp.S.Zero
+    loads: sp.ImmutableMatrix = None
 
     @property
     def n(self):
@@ -225,8 +235,14 @@ def derive(model):
     F = sp.zeros(n, 1)
     forces = {}
     q_vec, u_vec = sp.Matrix(qs), sp.Matrix(us)
+    totals = {"kinetic": sp.S.Zero, "potential": sp.S.Zero, "dissipation": sp.S.Zero}
+    loads = sp.zeros(n, 1)
     for element in model.elements:
         terms = element.contribute(ctx.bind(element))
+        for name in totals:
+            totals[name] += sp.sympify(getattr(terms, name))
+        for q, load in terms.loads.items():
+            loads[index[q]] += load
         mass, force, elastic = _element_contribution(terms, index, qs, us, t)
         for (i, j), mij in mass.items():
             M[i, j] += mij
@@ -260,6 +276,8 @@ def derive(model):
         damping=sp.ImmutableMatrix(C),
         forces=forces,
         latex_names=_latex_names(model, symbols),
+        loads=sp.ImmutableMatrix(loads),
+        **totals,
     )
     _CACHE[key] = eom
     return eom
