@@ -32,6 +32,8 @@ __all__ = ["simulate", "SCIPY_METHODS", "COMPILED_METHODS", "ENGINES"]
 
 SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 COMPILED_METHODS = ("RK45", "DOP853")
+#: methods that use the analytic Jacobian generated from the symbolic equations
+IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
 ENGINES = ("auto", "compiled", "scipy")
 
 
@@ -76,13 +78,16 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
     every sample on failure, check states and honour the wall-time limit."""
     import scipy.integrate as si
 
-    rhs = system.within(a, b).rhs
+    segment = system.within(a, b)
+    rhs = segment.rhs
 
     def fun(t, yy):
         tick(t)
         return rhs(t, yy)
 
     opts = {k: v for k, v in options.items() if k != "method"}
+    if options["method"] in IMPLICIT_METHODS and getattr(segment, "has_jacobian", False):
+        opts["jac"] = segment.jacobian
     solver = getattr(si, options["method"])(fun, a, y, b, **opts)
     ts, ys = [], []
     if t_eval.size and t_eval[0] == a:

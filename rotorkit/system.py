@@ -82,6 +82,11 @@ class System:
         self._plist = prepared.tolist()
 
     @property
+    def has_jacobian(self):
+        """Whether the generated module holds the analytic Jacobian."""
+        return bool(getattr(self._module, "HAS_JACOBIAN", False))
+
+    @property
     def n_states(self):
         return len(self.state_names)
 
@@ -112,6 +117,19 @@ class System:
         dydt = [0.0] * self.n_states
         self.core(float(t), np.asarray(y, dtype=float).tolist(), self._plist, dydt)
         return np.array(dydt)
+
+    def jacobian(self, t, y):
+        """The analytic Jacobian d(dy/dt)/dy, shape (n_states, n_states), from the symbolic equations.
+
+        Contact kinks are differentiated one-sidedly (the step of a ramp is 0
+        at the kink). Used by the implicit methods (Radau, BDF, LSODA).
+        """
+        J = np.zeros((self.n_states, self.n_states))
+        if self.backend == "numba":
+            _numba_function(self._module, "jac")(float(t), np.asarray(y, dtype=float), self.prepared_parameters, J)
+        else:
+            self._module.jac(float(t), np.asarray(y, dtype=float).tolist(), self._plist, J)
+        return J
 
     def within(self, start, end):
         """A copy whose equations see time clamped just inside ``[start, end]``.
@@ -148,13 +166,13 @@ class System:
 _JIT_CACHE = {}
 
 
-def _numba_core(module):
-    func = _JIT_CACHE.get(module.__name__)
+def _numba_function(module, name):
+    func = _JIT_CACHE.get((module.__name__, name))
     if func is None:
         import numba
 
-        func = numba.njit(cache=True, error_model="numpy")(module.rhs)
-        _JIT_CACHE[module.__name__] = func
+        func = numba.njit(cache=True, error_model="numpy")(getattr(module, name))
+        _JIT_CACHE[(module.__name__, name)] = func
     return func
 
 
@@ -185,7 +203,7 @@ def compile_model(model, backend="auto"):
 
         module = cache.store(key, generate(model.equations(), key).source)
     _MODULES[key] = module
-    core = _numba_core(module) if backend == "numba" else module.rhs
+    core = _numba_function(module, "rhs") if backend == "numba" else module.rhs
     return System(model, module, backend, core)
 
 

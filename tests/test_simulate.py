@@ -143,3 +143,11 @@ def test_scipy_engine_keeps_samples_before_a_failure():
     # samples up to the blow-up are kept, and they are the exact solution cos(t)
     assert partial.t.size >= 25
     np.testing.assert_allclose(partial["x"], np.cos(partial.t), atol=1e-4)
+
+
+def test_implicit_methods_use_the_analytic_jacobian():
+    system = rk.preset("al31f").compile()
+    res = rk.simulate(system, (0.0, 0.005), method="Radau", rtol=1e-6, engine="scipy")
+    assert res.stats["njev"] > 0 and res.stats["success"]
+    ref = rk.simulate(system, (0.0, 0.005), method="DOP853", rtol=1e-10, atol=1e-14, engine="scipy")
+    assert np.abs(res["x2"] - ref["x2"]).max() < 1e-3 * np.abs(ref["x2"]).max()

@@ -1,6 +1,6 @@
-"""Generate the source of a right-hand side from :class:`EquationsOfMotion`.
+"""Generate the source of a right-hand side (and its Jacobian) from :class:`EquationsOfMotion`.
 
-The generated module holds two plain-Python functions that numba can also
+The generated module holds plain-Python functions that numba can also
 compile unchanged:
 
 ``prepare(p, out)``
@@ -12,11 +12,17 @@ compile unchanged:
     vector. Its last two entries bound the time the equations see
     (``t`` is clamped to ``[p[-2], p[-1]]``): an integrator working on one
     segment between time discontinuities sets them just inside the segment,
-    so a step ending exactly on a jump still sees its own side of it. ``M(q, t) q'' = f`` is solved numerically block by block: the
-    mass matrix splits into independent blocks (a 3x3 block per eccentric
-    disk with torsion, 1x1 elsewhere); each block is solved by unrolled
-    Gaussian elimination without pivoting, which is stable because M is
-    symmetric positive definite. No symbolic inverse is ever formed.
+    so a step ending exactly on a jump still sees its own side of it.
+``jac(t, y, p, J)``
+    The analytic Jacobian ``d(dydt)/dy`` into the zero-filled ``J``
+    (2n x 2n): ``dq''/dy_k = M^-1 (df/dy_k - dM/dy_k q'')``, every column
+    solved with the same factorisation of M.
+
+``M(q, t) q'' = f`` is solved numerically block by block: the mass matrix
+splits into independent blocks (a 3x3 block per eccentric disk with
+torsion, 1x1 elsewhere); each block is factorised by unrolled Gaussian
+elimination without pivoting, which is stable because M is symmetric
+positive definite. No symbolic inverse is ever formed.
 """
 
 from dataclasses import dataclass
@@ -110,52 +116,70 @@ def _name_power_bases(replacements, reduced):
     return out, new_reduced
 
 
-def _solve_block(block, mass_name, rhs_name, n):
-    """Lines that solve one SPD block by unrolled elimination; writes dydt[n + i]."""
-    size = len(block)
-    if size == 1:
-        i = block[0]
-        return [f"    dydt[{n + i}] = {rhs_name[i]} / {mass_name[(i, i)]}"]
-    A = [[mass_name.get((min(block[r], block[c]), max(block[r], block[c]))) for c in range(size)] for r in range(size)]
-    b = [rhs_name[i] for i in block]
-    lines, counter = [], [0]
+class _BlockFactor:
+    """Unrolled LU factorisation (no pivoting: M is SPD) of one mass-matrix block."""
 
-    def fresh():
-        counter[0] += 1
-        return f"_e{block[0]}_{counter[0]}"
-
-    for k in range(size):
-        for r in range(k + 1, size):
-            if A[r][k] is None:
-                continue
-            factor = fresh()
-            lines.append(f"    {factor} = {A[r][k]} / {A[k][k]}")
-            for c in range(k + 1, size):
-                if A[k][c] is None:
+    def __init__(self, block, mass_name):
+        self.block = block
+        size = len(block)
+        self.lines = []
+        A = [[mass_name.get((min(block[r], block[c]), max(block[r], block[c]))) for c in range(size)]
+             for r in range(size)]
+        self.lower = {}  # (r, k) -> multiplier name
+        count = 0
+        for k in range(size):
+            for r in range(k + 1, size):
+                if A[r][k] is None:
                     continue
-                new = fresh()
-                lines.append(f"    {new} = " + (f"{A[r][c]} - " if A[r][c] is not None else "-") + f"{factor}*{A[k][c]}")
-                A[r][c] = new
-            new = fresh()
-            lines.append(f"    {new} = {b[r]} - {factor}*{b[k]}")
-            b[r] = new
-    x = [None] * size
-    for k in reversed(range(size)):
-        terms = [f" - {A[k][c]}*{x[c]}" for c in range(k + 1, size) if A[k][c] is not None]
-        x[k] = fresh()
-        lines.append(f"    {x[k]} = ({b[k]}{''.join(terms)}) / {A[k][k]}")
-        lines.append(f"    dydt[{n + block[k]}] = {x[k]}")
-    return lines
+                count += 1
+                factor = f"_l{block[0]}_{count}"
+                self.lines.append(f"    {factor} = {A[r][k]} / {A[k][k]}")
+                self.lower[(r, k)] = factor
+                for c in range(k + 1, size):
+                    if A[k][c] is None:
+                        continue
+                    count += 1
+                    new = f"_l{block[0]}_{count}"
+                    self.lines.append(f"    {new} = " + (f"{A[r][c]} - " if A[r][c] is not None else "-")
+                                      + f"{factor}*{A[k][c]}")
+                    A[r][c] = new
+        self.upper = A  # upper triangle (c >= r) holds U
+
+    def solve(self, rhs, out, tag):
+        """Lines solving ``M_block x = rhs`` (names, None = 0); ``out(i, name)`` makes the store line."""
+        size, block = len(self.block), self.block
+        b = list(rhs)
+        lines = []
+        for k in range(size):
+            for r in range(k + 1, size):
+                factor = self.lower.get((r, k))
+                if factor is None or b[k] is None:
+                    continue
+                new = f"_s{tag}_{block[r]}_{k}"
+                lines.append(f"    {new} = " + (f"{b[r]} - " if b[r] is not None else "-") + f"{factor}*{b[k]}")
+                b[r] = new
+        x = [None] * size
+        for k in reversed(range(size)):
+            terms = [f" - {self.upper[k][c]}*{x[c]}" for c in range(k + 1, size)
+                     if self.upper[k][c] is not None and x[c] is not None]
+            if b[k] is None and not terms:
+                continue
+            x[k] = f"_x{tag}_{block[k]}"
+            lines.append(f"    {x[k]} = ({b[k] if b[k] is not None else '0.0'}{''.join(terms)}) / {self.upper[k][k]}")
+            lines.append(out(block[k], x[k]))
+        return lines, x
 
 
-def generate(eom, structure_key=""):
-    """Generate the RHS module source for ``eom``.
+def generate(eom, structure_key="", jacobian=True):
+    """Generate the module source for ``eom``.
 
     Parameters
     ----------
     eom : EquationsOfMotion
     structure_key : str
         Recorded in the module header.
+    jacobian : bool
+        Also generate ``jac(t, y, p, J)``.
 
     Returns
     -------
@@ -166,74 +190,129 @@ def generate(eom, structure_key=""):
     param_set = set(params)
     M = eom.mass_matrix
     F, K, C = eom.nonlinear_forcing(), eom.stiffness, eom.damping
-    f = [F[i] - sum((K[i, j] * eom.coordinates[j] for j in range(n) if K[i, j] != 0), sp.S.Zero)
-         - sum((C[i, j] * eom.speeds[j] for j in range(n) if C[i, j] != 0), sp.S.Zero) for i in range(n)]
+    q, u = eom.coordinates, eom.speeds
+    f = [F[i] - sum((K[i, j] * q[j] for j in range(n) if K[i, j] != 0), sp.S.Zero)
+         - sum((C[i, j] * u[j] for j in range(n) if C[i, j] != 0), sp.S.Zero) for i in range(n)]
     blocks = mass_blocks(M)
+    mass_keys = [(a, b) for block in blocks for a in block for b in block if a <= b and M[a, b] != 0]
+
+    # Jacobian pieces: df_i/dy_k and dM_ij/dy_k (only entries that depend on y)
+    states = list(q) + list(u)
+    df, dM = {}, {}
+    if jacobian:
+        for i in range(n):
+            for k in sorted(f[i].free_symbols & set(states), key=states.index):
+                df[(i, states.index(k))] = sp.diff(f[i], k)
+        for (a, b) in mass_keys:
+            for k in sorted(M[a, b].free_symbols & set(states), key=states.index):
+                dM[(a, b, states.index(k))] = sp.diff(M[a, b], k)
 
     table = {}
-    mass_entries = {}
-    for block in blocks:
-        for a in block:
-            for b in block:
-                if a <= b and M[a, b] != 0:
-                    mass_entries[(a, b)] = _hoist(M[a, b], param_set, table)
-    forcing = [_hoist(f[i], param_set, table) for i in range(n)]
-
-    keys = list(mass_entries)
-    exprs = [mass_entries[k] for k in keys] + forcing
+    exprs = ([M[key] for key in mass_keys] + f + list(df.values()) + list(dM.values()))
+    exprs = [_hoist(e, param_set, table) for e in exprs]
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="none")
     replacements, reduced = _name_power_bases(replacements, reduced)
+    it = iter(reduced)
+    mass_exprs = [next(it) for _ in mass_keys]
+    f_exprs = [next(it) for _ in range(n)]
+    df_exprs = [next(it) for _ in df]
+    dM_exprs = [next(it) for _ in dM]
 
     names = {eom.t: "t"}
-    for i, (q, u) in enumerate(zip(eom.coordinates, eom.speeds)):
-        names[q], names[u] = f"q{i}", f"u{i}"
+    for i, (qi, ui) in enumerate(zip(q, u)):
+        names[qi], names[ui] = f"q{i}", f"u{i}"
     for k, p in enumerate(params):
         names[p] = f"p{k}"
     derived = list(table.items())  # (expression, symbol)
     for k, (_, sym) in enumerate(derived):
         names[sym] = f"k{k}"
     printer = RhsPrinter(names)
+    n_params = len(params)
+    n_prepared = n_params + len(derived)
 
     # prepare(): derived parameter expressions, computed once per parameter set
-    n_params = len(params)
-    prep = [f"def prepare(p, out):", f"    for i in range({n_params}):", "        out[i] = p[i]"]
-    for k, p in enumerate(params):
+    prep = ["def prepare(p, out):", f"    for i in range({n_params}):", "        out[i] = p[i]"]
+    for k in range(n_params):
         prep.append(f"    p{k} = p[{k}]")
     prep_repl, prep_exprs = sp.cse([e for e, _ in derived], symbols=sp.numbered_symbols("_d"), order="none")
     for sym, e in prep_repl:
         prep.append(f"    {printer.doprint(sym)} = {printer.doprint(e)}")
     for k, e in enumerate(prep_exprs):
         prep.append(f"    out[{n_params + k}] = {printer.doprint(e)}")
-    n_prepared = n_params + len(derived)
     prep.append(f"    out[{n_prepared}] = -1e300  # time window of the equations, see rhs()")
     prep.append(f"    out[{n_prepared + 1}] = 1e300")
+    prep.append("    return out")
+
+    def prelude(name, out_arg, needed):
+        """Unpacking and shared subexpressions; only what ``needed`` expressions use."""
+        used = set()
+        for e in needed:
+            used |= e.free_symbols
+        keep = []
+        for sym, e in reversed(replacements):  # keep the replacements the needed expressions use
+            if sym in used:
+                keep.append((sym, e))
+                used |= e.free_symbols
+        keep.reverse()
+        lines = [f"def {name}(t, y, p, {out_arg}):", f"    t = min(max(t, p[{n_prepared}]), p[{n_prepared + 1}])"]
+        for i, (qi, ui) in enumerate(zip(q, u)):
+            if ui in used or name == "rhs":
+                lines.append(f"    u{i} = y[{n + i}]")
+            if qi in used:
+                lines.append(f"    q{i} = y[{i}]")
+        lines += [f"    p{k} = p[{k}]" for k, p in enumerate(params) if p in used]
+        lines += [f"    k{k} = p[{n_params + k}]" for k, (_, sym) in enumerate(derived) if sym in used]
+        lines += [f"    {printer.doprint(sym)} = {printer.doprint(e)}" for sym, e in keep]
+        return lines
+
+    def mass_and_solve(out_acc):
+        lines, mass_name, factors, acc = [], {}, {}, {}
+        for key, e in zip(mass_keys, mass_exprs):
+            name = f"m{key[0]}_{key[1]}"
+            lines.append(f"    {name} = {printer.doprint(e)}")
+            mass_name[key] = name
+        for i, e in enumerate(f_exprs):
+            lines.append(f"    f{i} = {printer.doprint(e)}")
+        for block in blocks:
+            factor = _BlockFactor(block, mass_name)
+            factors[block] = factor
+            lines += factor.lines
+            solve_lines, x = factor.solve([f"f{i}" for i in block], out_acc, "a")
+            lines += solve_lines
+            acc.update(zip(block, x))
+        return lines, factors, acc
 
     # rhs(): the per-evaluation work
-    used = set().union(*(e.free_symbols for e in reduced), *(e.free_symbols for _, e in replacements)) if exprs else set()
-    body = ["def rhs(t, y, p, dydt):", f"    t = min(max(t, p[{n_prepared}]), p[{n_prepared + 1}])"]
-    for i, (q, u) in enumerate(zip(eom.coordinates, eom.speeds)):
-        body.append(f"    u{i} = y[{n + i}]")
-        body.append(f"    dydt[{i}] = u{i}")
-        if q in used:
-            body.append(f"    q{i} = y[{i}]")
-    for k, p in enumerate(params):
-        if p in used:
-            body.append(f"    p{k} = p[{k}]")
-    for k, (_, sym) in enumerate(derived):
-        if sym in used:
-            body.append(f"    k{k} = p[{n_params + k}]")
-    for sym, e in replacements:
-        body.append(f"    {printer.doprint(sym)} = {printer.doprint(e)}")
-    mass_name, rhs_name = {}, {}
-    for key, e in zip(keys, reduced[: len(keys)]):
-        name = f"m{key[0]}_{key[1]}"
-        body.append(f"    {name} = {printer.doprint(e)}")
-        mass_name[key] = name
-    for i, e in enumerate(reduced[len(keys):]):
-        body.append(f"    f{i} = {printer.doprint(e)}")
-        rhs_name[i] = f"f{i}"
-    for block in blocks:
-        body.extend(_solve_block(block, mass_name, rhs_name, n))
+    body = prelude("rhs", "dydt", mass_exprs + f_exprs)
+    body += [f"    dydt[{i}] = u{i}" for i in range(n)]
+    lines, _, _ = mass_and_solve(lambda i, name: f"    dydt[{n + i}] = {name}")
+    body += lines
+
+    jac = []
+    if jacobian:
+        jac = prelude("jac", "J", mass_exprs + f_exprs + df_exprs + dM_exprs)
+        jac += [f"    J[{i}, {n + i}] = 1.0" for i in range(n)]
+        lines, factors, acc = mass_and_solve(lambda i, name: f"    a{i} = {name}")
+        jac += lines
+        columns = {}
+        for (i, k), e in zip(df, df_exprs):
+            columns.setdefault(k, {})[i] = [printer.doprint(e)]
+        for (a, b, k), e in zip(dM, dM_exprs):  # - dM/dy_k q'' (M symmetric)
+            dm = printer.doprint(e)
+            col = columns.setdefault(k, {})
+            col.setdefault(a, []).append(f"-({dm})*a{b}")
+            if a != b:
+                col.setdefault(b, []).append(f"-({dm})*a{a}")
+        for k in sorted(columns):
+            col = columns[k]
+            for i, terms in col.items():
+                jac.append(f"    r{i} = " + " + ".join(f"({t})" for t in terms))
+            for block, factor in factors.items():
+                rhs_names = [f"r{i}" if i in col else None for i in block]
+                if all(r is None for r in rhs_names):
+                    continue
+                solve_lines, _ = factor.solve(rhs_names, lambda i, name, k=k: f"    J[{n + i}, {k}] = {name}", f"j{k}")
+                jac += solve_lines
 
     header = [
         f'"""Right-hand side generated by rotorkit (structure {structure_key}). Do not edit."""',
@@ -242,11 +321,12 @@ def generate(eom, structure_key=""):
         f"N_COORDINATES = {n}",
         f"N_PARAMETERS = {n_params}",
         f"N_DERIVED = {len(derived)}",
-        f"N_PREPARED = {len(derived) + n_params + 2}",
-        f"STATE_NAMES = {tuple([str(q) for q in eom.coordinates] + [str(u) for u in eom.speeds])!r}",
+        f"N_PREPARED = {n_prepared + 2}",
+        f"STATE_NAMES = {tuple([str(s) for s in q] + [str(s) for s in u])!r}",
         f"PARAMETER_NAMES = {tuple(str(p) for p in params)!r}",
         f"DERIVED_PARAMETERS = {tuple(tuple(sorted(str(s) for s in e.free_symbols)) for e, _ in derived)!r}",
+        f"HAS_JACOBIAN = {bool(jacobian)}",
         "",
     ]
-    source = "\n".join(header + prep + ["    return out", ""] + body + [""])
+    source = "\n".join(header + prep + [""] + body + [""] + jac + [""])
     return GeneratedCode(source=source, n_coordinates=n, n_parameters=n_params, n_derived=len(derived), blocks=blocks)

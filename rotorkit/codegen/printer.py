@@ -44,6 +44,10 @@ class RhsPrinter(PythonCodePrinter):
         a, b = (self._print(x) for x in expr.args)
         return f"(({a})/({b}) if ({b}) != 0.0 else 0.0)"
 
+    def _print_hypot(self, expr):
+        x, y = (self._print(a) for a in expr.args)
+        return f"sqrt(({x})*({x}) + ({y})*({y}))"
+
     def _print_window(self, expr):
         t, start, end = (self._print(x) for x in expr.args)
         return f"(1.0 if ({start}) <= ({t}) < ({end}) else 0.0)"

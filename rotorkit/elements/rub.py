@@ -2,10 +2,8 @@
 
 from dataclasses import dataclass
 
-import sympy as sp
-
 from ..errors import ParameterError
-from ..symbolic.functions import ramp, safe_div
+from ..symbolic.functions import hypot, ramp, safe_div
 from .base import Element, Terms
 from .rotor import check_station
 
@@ -77,7 +75,7 @@ class RubStator(Element):
         p = ctx.p
         (x, _), (y, _) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         kr, mu, delta = p["contact_stiffness"], p["friction_coefficient"], p["clearance"]
-        r = sp.sqrt(x**2 + y**2)
+        r = hypot(x, y)
         penetration = ramp(r - delta)
         normal = kr * penetration
         loads = {

@@ -10,7 +10,7 @@ expressions (see :mod:`rotorkit.codegen.printer`).
 
 import sympy as sp
 
-__all__ = ["ramp", "step", "safe_div", "window"]
+__all__ = ["ramp", "step", "safe_div", "window", "hypot"]
 
 
 class ramp(sp.Function):
@@ -101,3 +101,24 @@ class window(sp.Function):
     def _latex(self, printer):
         t, start, end = (printer._print(a) for a in self.args)
         return r"\mathbb{1}_{[%s,\,%s)}\left(%s\right)" % (start, end, t)
+
+
+class hypot(sp.Function):
+    """``sqrt(x^2 + y^2)``, whose derivatives ``x / r`` stay finite (0) at the origin."""
+
+    nargs = 2
+
+    @classmethod
+    def eval(cls, x, y):
+        if x.is_zero:
+            return sp.Abs(y)
+        if y.is_zero:
+            return sp.Abs(x)
+        return None
+
+    def fdiff(self, argindex=1):
+        return safe_div(self.args[argindex - 1], self)
+
+    def _latex(self, printer):
+        x, y = (printer._print(a) for a in self.args)
+        return r"\sqrt{%s^{2} + %s^{2}}" % (x, y)
