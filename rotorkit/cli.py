@@ -251,6 +251,22 @@ def _cmd_accuracy(args):
     return 0
 
 
+def _cmd_stiffness(args):
+    from .analysis.stiffness import stiffness_report
+    from .presets import preset_module
+    from .simulate import simulate
+
+    module = preset_module(args.preset)
+    known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
+    system = module.build(**dict(parse_assignment(s, known) for s in args.set)).compile()
+    trial = simulate(system, (0.0, args.t_end), sample_rate=1000.0)
+    report = stiffness_report(system, trial)
+    print(f"fastest time scale {report.fastest_time_scale:.3g} s, slowest {report.slowest_time_scale:.3g} s, "
+          f"stiffness ratio {report.ratio:.3g} (states at rest and along 0-{args.t_end:g} s)")
+    print(f"suggested method: {report.suggested_method}: {report.reason}")
+    return 0
+
+
 def _cmd_cache(args):
     from .codegen import cache
 
@@ -299,6 +315,12 @@ def build_parser():
     acc.add_argument("--budget", type=float, default=60.0,
                      help="skip a method's tighter tolerances once one run takes longer than this (s)")
     acc.set_defaults(func=_cmd_accuracy)
+
+    st = sub.add_parser("stiffness", help="time scales of a scene and the integration method that fits")
+    st.add_argument("preset")
+    st.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
+    st.add_argument("--t-end", type=float, default=0.5, help="length of the trial run whose states are scanned (s)")
+    st.set_defaults(func=_cmd_stiffness)
 
     ca = sub.add_parser("cache", help="show or clear the cache of generated models")
     ca.add_argument("action", choices=("info", "clear"))

@@ -229,6 +229,8 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
 
     if time_limit is not None and not time_limit > 0:
         raise ParameterError(f"time_limit={time_limit!r} must be > 0 (s) or None")
+    if method not in IMPLICIT_METHODS and getattr(system, "has_jacobian", False):
+        _warn_if_stiff(system, t0, y)
     options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
     run = _run_compiled if engine == "compiled" else _run_scipy
     samples = _sample_times(t0, t1, sample_rate)
@@ -251,6 +253,22 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         if report is not None:
             report((b - t0) / (t1 - t0), b)
     return _result(system, out_t, out_y, stats, options, engine, start_wall, True, "success")
+
+
+def _warn_if_stiff(system, t0, y):
+    """One eigenvalue scan at the start state (about 1 ms): warn an explicit run that will crawl."""
+    import warnings
+
+    from .analysis.stiffness import STIFF_RATIO
+
+    lam = np.abs(np.linalg.eigvals(system.within(t0, t0 + 1.0).jacobian(t0, y)))
+    lam = lam[lam > 1e-9 * max(lam.max(), 1e-300)]
+    if lam.size and lam.max() / lam.min() > STIFF_RATIO:
+        warnings.warn(
+            f"{system.name}: stiff at the start state (stiffness ratio {lam.max() / lam.min():.3g}, fastest time "
+            f"scale {1 / lam.max():.3g} s): an explicit method is limited to steps of about {3.3 / lam.max():.3g} s; "
+            "consider method='Radau' (analytic Jacobian). rotorkit.analysis.stiffness.stiffness_report scans a "
+            "whole run.", RuntimeWarning, stacklevel=3)
 
 
 def _result(system, out_t, out_y, stats, options, engine, start_wall, success, message):
