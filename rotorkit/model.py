@@ -14,7 +14,7 @@ from .units import to_si
 __all__ = ["Model"]
 
 #: bump when the derivation or generated code changes, to invalidate caches
-FORMAT_VERSION = "2"
+FORMAT_VERSION = "4"
 
 
 class Model:

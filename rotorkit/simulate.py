@@ -48,6 +48,7 @@ class _Segment:
     nfev: int
     njev: int = 0
     nlu: int = 0
+    events: int = 0
     success: bool = True
     message: str = ""
 
@@ -75,8 +76,10 @@ def _print_progress(fraction, t):
 
 def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
     """One segment with a scipy OdeSolver, stepped here (as solve_ivp does) to keep
-    every sample on failure, check states and honour the wall-time limit."""
+    every sample on failure, check states, honour the wall-time limit and, with
+    ``contact_events``, restart at every contact onset and loss."""
     import scipy.integrate as si
+    from scipy.optimize import brentq
 
     segment = system.within(a, b)
     rhs = segment.rhs
@@ -85,17 +88,32 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
         tick(t)
         return rhs(t, yy)
 
-    opts = {k: v for k, v in options.items() if k != "method"}
+    opts = {k: v for k, v in options.items() if k not in ("method", "contact_events")}
     if options["method"] in IMPLICIT_METHODS and getattr(segment, "has_jacobian", False):
         opts["jac"] = segment.jacobian
-    solver = getattr(si, options["method"])(fun, a, y, b, **opts)
+    solver_class = getattr(si, options["method"])
+    events = options.get("contact_events") and segment.n_switches > 0
+    solver = solver_class(fun, a, y, b, **opts)
+    counts = {"nfev": 0, "njev": 0, "nlu": 0, "events": 0}
+    g_old = segment.switch_values(a, y) if events else None
     ts, ys = [], []
     if t_eval.size and t_eval[0] == a:
         ts.append(np.array([a]))
         ys.append(y[:, None].copy())
     k = int(ts[0].size) if ts else 0
     message = "success"
+
+    def take_samples(dense, t_upto):
+        """Samples up to t_upto; ``dense`` is called (and, for DOP853, paid for) only if there are any."""
+        nonlocal k
+        stop = np.searchsorted(t_eval, t_upto, side="right")
+        if stop > k:
+            ts.append(t_eval[k:stop])
+            ys.append(dense()(t_eval[k:stop]).reshape(len(y), -1))
+            k = stop
+
     while solver.status == "running":
+        t_old = solver.t
         step_message = solver.step()
         if solver.status == "failed":
             message = step_message
@@ -103,19 +121,35 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
         if not np.all(np.isfinite(solver.y)):
             message = "non-finite state (NaN or inf) after a step"
             break
-        stop = np.searchsorted(t_eval, solver.t, side="right")
-        if stop > k:
-            ts.append(t_eval[k:stop])
-            ys.append(solver.dense_output()(t_eval[k:stop]).reshape(len(y), -1))
-            k = stop
+        if events:
+            g_new = segment.switch_values(solver.t, solver.y)
+            crossed = np.flatnonzero(np.sign(g_old) * np.sign(g_new) < 0)
+            if crossed.size:
+                dense = solver.dense_output()
+                t_event = min(brentq(lambda tt, i=i: segment.switch_values(tt, dense(tt))[i], t_old, solver.t,
+                                     xtol=1e-14, rtol=4 * np.finfo(float).eps) for i in crossed)
+                take_samples(lambda: dense, t_event)
+                y_event = dense(t_event)
+                for key in ("nfev", "njev", "nlu"):
+                    counts[key] += getattr(solver, key)
+                counts["events"] += 1
+                solver = solver_class(fun, t_event, y_event, b, **opts)
+                g_old = segment.switch_values(t_event, y_event)
+                g_old[crossed] = g_new[crossed]  # the crossing that stopped us is behind
+                continue
+            g_old = g_new
+        take_samples(solver.dense_output, solver.t)
         if deadline is not None and _time.perf_counter() > deadline:
             message = "wall-time limit reached"
             break
     ok = solver.status == "finished"
+    for key in ("nfev", "njev", "nlu"):
+        counts[key] += getattr(solver, key)
     t_out = np.concatenate(ts) if ts else np.empty(0)
     y_out = np.concatenate(ys, axis=1) if ys else np.empty((len(y), 0))
-    return _Segment(t=t_out, y=y_out, y_end=solver.y.copy(), t_reached=float(solver.t), nfev=solver.nfev,
-                    njev=solver.njev, nlu=solver.nlu, success=ok, message=message if not ok else "success")
+    return _Segment(t=t_out, y=y_out, y_end=solver.y.copy(), t_reached=float(solver.t), nfev=counts["nfev"],
+                    njev=counts["njev"], nlu=counts["nlu"], events=counts["events"], success=ok,
+                    message=message if not ok else "success")
 
 
 def _run_compiled(system, a, b, y, t_eval, options, tick, deadline):
@@ -166,7 +200,7 @@ def _choose_engine(engine, system, method):
 
 
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
-             max_step=np.inf, engine="auto", progress=None, time_limit=None):
+             max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False):
     """Integrate a compiled system over ``t_span``.
 
     Parameters
@@ -195,6 +229,11 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     time_limit : float, optional
         Wall-time limit (s). When reached, the run stops cleanly with a
         :class:`SimulationError` holding the samples computed so far.
+    contact_events : bool
+        Locate every contact onset and loss (the elements' switch functions:
+        rub gap, each ball's deformation) and restart the integrator there,
+        so no step straddles a kink. scipy engine only (``auto`` picks it);
+        ``stats["events"]`` counts the restarts.
 
     Returns
     -------
@@ -208,6 +247,9 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     """
     if method not in SCIPY_METHODS:
         raise ParameterError(f"method={method!r} is unknown; expected one of {', '.join(SCIPY_METHODS)}")
+    if contact_events and engine == "compiled":
+        raise ParameterError("contact_events=True needs engine='scipy' (the compiled engine does not locate events)")
+    engine = "scipy" if contact_events and engine == "auto" else engine
     engine = _choose_engine(engine, system, method)
     t0, t1 = (float(v) for v in t_span)
     if not t1 > t0:
@@ -232,16 +274,18 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     if method not in IMPLICIT_METHODS and getattr(system, "has_jacobian", False):
         _warn_if_stiff(system, t0, y)
     options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
+    if contact_events:
+        options["contact_events"] = True
     run = _run_compiled if engine == "compiled" else _run_scipy
     samples = _sample_times(t0, t1, sample_rate)
     out_t, out_y = [], []
-    stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0}
+    stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0, "events": 0}
     start_wall = _time.perf_counter()
     deadline = None if time_limit is None else start_wall + time_limit
     for k, (a, b) in enumerate(_segments(t0, t1, system.time_events)):
         mask = (samples >= a) & (samples <= b) if k == 0 else (samples > a) & (samples <= b)
         seg = run(system, a, b, y, samples[mask], options, tick, deadline)
-        for key in ("nfev", "njev", "nlu"):
+        for key in ("nfev", "njev", "nlu", "events"):
             stats[key] += getattr(seg, key)
         stats["segments"] += 1
         out_t.append(seg.t)
@@ -261,7 +305,7 @@ def _warn_if_stiff(system, t0, y):
 
     from .analysis.stiffness import STIFF_RATIO
 
-    lam = np.abs(np.linalg.eigvals(system.within(t0, t0 + 1.0).jacobian(t0, y)))
+    lam = np.abs(np.linalg.eigvals(system.within(t0, t0 + 1.0).jacobian(t0, y, compiled=False)))
     lam = lam[lam > 1e-9 * max(lam.max(), 1e-300)]
     if lam.size and lam.max() / lam.min() > STIFF_RATIO:
         warnings.warn(
@@ -276,6 +320,7 @@ def _result(system, out_t, out_y, stats, options, engine, start_wall, success, m
     y = np.concatenate(out_y, axis=1) if out_y else np.empty((system.n_states, 0))
     atol = options["atol"]
     full = dict(stats, method=options["method"], rtol=options["rtol"], atol=atol if np.isscalar(atol) else list(atol),
+                contact_events=bool(options.get("contact_events", False)),
                 wall_time=_time.perf_counter() - start_wall, backend=system.backend, engine=engine,
                 success=success, message=message)
     return Result(t=t, y=y, state_names=system.state_names, parameters=system.parameters, stats=full,

@@ -118,18 +118,37 @@ class System:
         self.core(float(t), np.asarray(y, dtype=float).tolist(), self._plist, dydt)
         return np.array(dydt)
 
-    def jacobian(self, t, y):
+    def jacobian(self, t, y, compiled=None):
         """The analytic Jacobian d(dy/dt)/dy, shape (n_states, n_states), from the symbolic equations.
 
         Contact kinks are differentiated one-sidedly (the step of a ramp is 0
         at the kink). Used by the implicit methods (Radau, BDF, LSODA).
+        ``compiled=False`` evaluates the plain-Python version (no numba
+        compilation: right for a single evaluation).
         """
         J = np.zeros((self.n_states, self.n_states))
-        if self.backend == "numba":
+        if compiled is None:
+            compiled = self.backend == "numba"
+        if compiled:
             _numba_function(self._module, "jac")(float(t), np.asarray(y, dtype=float), self.prepared_parameters, J)
         else:
             self._module.jac(float(t), np.asarray(y, dtype=float).tolist(), self._plist, J)
         return J
+
+    @property
+    def n_switches(self):
+        """Number of contact switch functions (see :meth:`switch_values`)."""
+        return int(getattr(self._module, "N_SWITCHES", 0))
+
+    def switch_values(self, t, y):
+        """The elements' switch functions g(t, y): contact onset/loss where one changes sign."""
+        out = np.zeros(self.n_switches)
+        if self.backend == "numba":
+            _numba_function(self._module, "switches")(float(t), np.asarray(y, dtype=float), self.prepared_parameters,
+                                                      out)
+        else:
+            self._module.switches(float(t), np.asarray(y, dtype=float).tolist(), self._plist, out)
+        return out
 
     def within(self, start, end):
         """A copy whose equations see time clamped just inside ``[start, end]``.
@@ -150,7 +169,11 @@ class System:
         Values are SI floats or pint quantities; names as in :attr:`parameters`.
         Each value is checked by its element (units, sign, cross-field rules).
         """
-        return System(self.model.with_values(**overrides), self._module, self.backend, self.core)
+        changed = System(self.model.with_values(**overrides), self._module, self.backend, self.core)
+        window = self.prepared_parameters[-2:]
+        if window[0] > -1e300 or window[1] < 1e300:  # keep a time window set by within()
+            return changed.within(np.nextafter(window[0], -np.inf), np.nextafter(window[1], np.inf))
+        return changed
 
     def initial_state(self, **values):
         """A state vector of zeros with some named entries set (``x2=1e-4``)."""

@@ -124,7 +124,9 @@ def test_rub_force_and_torque_pieces(handwritten):
     x2, y2, a2 = eom.coordinates[1], eom.coordinates[8], 14
     fn = sp.lambdify((x2, y2), [rub[1].subs(values), rub[8].subs(values), rub[a2].subs(values)],
                      modules=[{"ramp": lambda v: max(v, 0.0),
-                               "safe_div": lambda a, b: a / b if b != 0 else 0.0}, "math"])
+                               "safe_div": lambda a, b: a / b if b != 0 else 0.0,
+                               "hypot": math.hypot,
+                               "contact_ratio": lambda r, d: (r - d) / r if r > d else (1.0 if r == 0 and d == 0 else 0.0)}, "math"])
     for r in (0.0, 0.5 * P["delta"], P["delta"] * (1 + 1e-9), 1.2 * P["delta"], 3 * P["delta"]):
         for angle in (0.0, 1.0, 2.5):
             q = np.zeros(16)

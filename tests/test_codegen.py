@@ -1,5 +1,7 @@
 """Generated code: same numbers as the symbolic equations, guards, block solve."""
 
+import math
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -19,6 +21,8 @@ def test_cse_and_block_solve_do_not_change_the_numbers(backend):
     values = {sp.Symbol(k, real=True): v for k, v in model.parameters.items()}
     args = (eom.t, *eom.coordinates, *eom.speeds)
     mods = [{"ramp": lambda v: max(v, 0.0), "safe_div": lambda a, b: a / b if b != 0 else 0.0,
+                               "hypot": math.hypot,
+                               "contact_ratio": lambda r, d: (r - d) / r if r > d else (1.0 if r == 0 and d == 0 else 0.0),
              "window": lambda t, a, b: 1.0 if a <= t < b else 0.0, "Min": min, "Max": max}, "math"]
     M = sp.lambdify(args, sp.Matrix(eom.mass_matrix.subs(values)).tolist(), modules=mods)
     f = sp.lambdify(args, sp.Matrix(eom.forcing.subs(values)).T.tolist()[0], modules=mods)

@@ -81,3 +81,25 @@ def test_state_dependent_mass_matrix_term(backend):
     y = np.array([1e-3, 2e-3, -1e-3, 1.5e-3, 0.4, 0.1, -0.2, 0.3, -0.1, 5.0])  # x0 x1 y0 y1 alpha1, rates
     J, J_fd = system.jacobian(0.7, y), finite_difference(system, 0.7, y)
     np.testing.assert_allclose(J, J_fd, rtol=1e-6, atol=1e-6 * np.abs(J_fd).max())
+
+
+@pytest.mark.parametrize("backend", rk.available_backends())
+def test_permanent_contact_is_linear_at_the_origin(backend):
+    """Zero clearance: the rub force is -k_r (x - mu y, mu x + y), linear through r = 0."""
+    m, k, kr, mu = 2.0, 2e4, 6e4, 0.2
+    system = rk.Model([rk.Rotor(name="R", stations=(1,), speed=0.0), rk.Disk(station=1, mass=m, radius=0.1),
+                       rk.ElasticSupport(station=1, stiffness=k),
+                       rk.RubStator(station=1, clearance=0.0, contact_stiffness=kr, friction_coefficient=mu)]
+                      ).compile(backend=backend)
+    expected = np.array([[0, 0, 1, 0], [0, 0, 0, 1], [-(k + kr) / m, mu * kr / m, 0, 0], [-mu * kr / m, -(k + kr) / m, 0, 0]])
+    for y in (np.zeros(4), np.array([1e-4, -2e-4, 0.0, 0.0])):
+        np.testing.assert_allclose(system.jacobian(0.0, y), expected, rtol=1e-12)
+    np.testing.assert_allclose(system.rhs(0.0, np.array([1e-4, 0, 0, 0]))[2:], [-(k + kr) * 1e-4 / m, -mu * kr * 1e-4 / m])
+
+
+def test_with_parameters_keeps_the_time_window():
+    system = rk.preset("al31f").compile()
+    window = system.within(2.0, 4.0)
+    changed = window.with_parameters(LP_speed=1000.0)
+    np.testing.assert_array_equal(changed.prepared_parameters[-2:], window.prepared_parameters[-2:])
+    assert changed.parameters["LP_speed"] == 1000.0

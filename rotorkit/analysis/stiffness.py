@@ -78,7 +78,7 @@ def stiffness_report(system, result=None, *, n=40):
     times, states = probe_states(system, result, n)
     largest, smallest = 0.0, np.inf
     for t, y in zip(times, states):
-        lam = np.abs(np.linalg.eigvals(system.jacobian(t, y)))
+        lam = np.abs(np.linalg.eigvals(system.jacobian(t, y, compiled=False)))
         lam = lam[lam > 1e-9 * max(lam.max(), 1e-300)]
         if lam.size:
             largest, smallest = max(largest, lam.max()), min(smallest, lam.min())

@@ -48,6 +48,11 @@ class RhsPrinter(PythonCodePrinter):
         x, y = (self._print(a) for a in expr.args)
         return f"sqrt(({x})*({x}) + ({y})*({y}))"
 
+    def _print_contact_ratio(self, expr):
+        r, delta = (self._print(a) for a in expr.args)
+        return (f"((({r}) - ({delta}))/({r}) if ({r}) > ({delta}) else "
+                f"(1.0 if ({r}) == 0.0 and ({delta}) == 0.0 else 0.0))")
+
     def _print_window(self, expr):
         t, start, end = (self._print(x) for x in expr.args)
         return f"(1.0 if ({start}) <= ({t}) < ({end}) else 0.0)"

@@ -34,12 +34,16 @@ class Terms:
     loads : Mapping[sympy.Symbol, sympy.Expr]
         Generalised forces Q_j on coordinates q_j (non-conservative or
         time-dependent loads: contact, bearing, manoeuvre).
+    switches : tuple of sympy.Expr
+        Functions g(q, t) whose zero crossings are kinks of the equations
+        (contact onset and loss); an integrator may locate them and restart.
     """
 
     kinetic: sp.Expr = sp.S.Zero
     potential: sp.Expr = sp.S.Zero
     dissipation: sp.Expr = sp.S.Zero
     loads: Mapping = field(default_factory=dict)
+    switches: tuple = ()
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

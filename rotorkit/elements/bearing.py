@@ -115,14 +115,16 @@ class BallBearing(Element):
         c0, s0 = sp.cos(theta), sp.sin(theta)
         n = sp.nsimplify(self.exponent)
         fx = fy = sp.S.Zero
+        switches = []
         for j in range(self.n_balls):
             # ball angle by angle addition: one sin/cos pair for all balls
             ca, sa = _clean(math.cos(2 * math.pi * j / self.n_balls)), _clean(math.sin(2 * math.pi * j / self.n_balls))
             cj, sj = (c0, s0) if j == 0 else (c0 * ca - s0 * sa, s0 * ca + c0 * sa)
             delta = (xo - xi) * cj + (yo - yi) * sj - p["clearance"]
+            switches.append(delta)
             load = ramp(delta) ** n
             fx += load * cj
             fy += load * sj
         cb = p["contact_stiffness"]
         loads = {xi: cb * fx, yi: cb * fy, xo: -cb * fx, yo: -cb * fy}
-        return Terms(loads=loads)
+        return Terms(loads=loads, switches=tuple(switches))

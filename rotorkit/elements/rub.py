@@ -3,7 +3,7 @@
 from dataclasses import dataclass
 
 from ..errors import ParameterError
-from ..symbolic.functions import hypot, ramp, safe_div
+from ..symbolic.functions import contact_ratio, hypot, ramp
 from .base import Element, Terms
 from .rotor import check_station
 
@@ -76,14 +76,14 @@ class RubStator(Element):
         (x, _), (y, _) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         kr, mu, delta = p["contact_stiffness"], p["friction_coefficient"], p["clearance"]
         r = hypot(x, y)
-        penetration = ramp(r - delta)
-        normal = kr * penetration
+        normal = kr * ramp(r - delta)
+        ratio = contact_ratio(r, delta)  # (r - delta) / r in contact, finite at r = 0
         loads = {
-            x: -safe_div(normal * (x - mu * y), r),
-            y: -safe_div(normal * (mu * x + y), r),
+            x: -kr * ratio * (x - mu * y),
+            y: -kr * ratio * (mu * x + y),
         }
         alpha = ctx.coord(self.station, "alpha", drive=True)[0]
         if alpha != 0:
             radius = p["contact_radius"] if self.contact_radius is not None else ctx.disk_radius(self.station)
             loads[alpha] = -mu * radius * normal
-        return Terms(loads=loads)
+        return Terms(loads=loads, switches=(r - delta,))

@@ -10,7 +10,7 @@ expressions (see :mod:`rotorkit.codegen.printer`).
 
 import sympy as sp
 
-__all__ = ["ramp", "step", "safe_div", "window", "hypot"]
+__all__ = ["ramp", "step", "safe_div", "window", "hypot", "contact_ratio"]
 
 
 class ramp(sp.Function):
@@ -122,3 +122,24 @@ class hypot(sp.Function):
     def _latex(self, printer):
         x, y = (printer._print(a) for a in self.args)
         return r"\sqrt{%s^{2} + %s^{2}}" % (x, y)
+
+
+class contact_ratio(sp.Function):
+    """``max(r - delta, 0) / r``: the share of a radial distance that is penetration.
+
+    Its limit at ``r = 0`` is 1 for ``delta = 0`` (permanent contact: the force
+    ``-k r (x, y) / r`` is linear) and 0 otherwise, so the force and its
+    Jacobian are right at the origin.
+    """
+
+    nargs = 2
+
+    def fdiff(self, argindex=1):
+        r, delta = self.args
+        if argindex == 1:  # d/dr (1 - delta/r) in contact
+            return step(r - delta) * safe_div(delta, r**2)
+        return -step(r - delta) * safe_div(sp.S.One, r)
+
+    def _latex(self, printer):
+        r, delta = (printer._print(a) for a in self.args)
+        return r"\frac{\left\langle %s - %s \right\rangle_{+}}{%s}" % (r, delta, r)

@@ -72,6 +72,9 @@ class EquationsOfMotion:
         changes at the rate ``-dL/dt - 2 D + Q . q'``).
     loads : sympy.ImmutableMatrix
         Sum of the elements' generalised loads Q (n x 1).
+    switches : tuple
+        (element label, expression) pairs whose zero crossings are kinks of
+        the equations (contact onset and loss).
     """
 
     t: sp.Symbol
@@ -88,6 +91,7 @@ class EquationsOfMotion:
     potential: sp.Expr = sp.S.Zero
     dissipation: sp.Expr = sp.S.Zero
     loads: sp.ImmutableMatrix = None
+    switches: tuple = ()
 
     @property
     def n(self):
@@ -237,8 +241,10 @@ def derive(model):
     q_vec, u_vec = sp.Matrix(qs), sp.Matrix(us)
     totals = {"kinetic": sp.S.Zero, "potential": sp.S.Zero, "dissipation": sp.S.Zero}
     loads = sp.zeros(n, 1)
+    switches = []
     for element in model.elements:
         terms = element.contribute(ctx.bind(element))
+        switches += [(element.label(), sp.sympify(g)) for g in terms.switches]
         for name in totals:
             totals[name] += sp.sympify(getattr(terms, name))
         for q, load in terms.loads.items():
@@ -277,6 +283,7 @@ def derive(model):
         forces=forces,
         latex_names=_latex_names(model, symbols),
         loads=sp.ImmutableMatrix(loads),
+        switches=tuple(switches),
         **totals,
     )
     _CACHE[key] = eom
