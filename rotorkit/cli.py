@@ -267,6 +267,34 @@ def _cmd_stiffness(args):
     return 0
 
 
+def _cmd_validate(args):
+    from .presets import preset_module
+    from .validation import Study, format_table
+
+    module = preset_module(args.preset)
+    claims = getattr(module, "CLAIMS", ())
+    if not claims:
+        raise ParameterError(f"preset {args.preset!r} defines no CLAIMS to validate")
+    outputs = getattr(module, "OUTPUTS", {})
+    signals = {"bending": outputs["bending"], "torsion": outputs["torsion"]}
+
+    def progress(done, overrides, status):
+        text = ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in overrides.items())
+        print(f"  run {done}: {text or 'defaults'}: {status}", file=sys.stderr, flush=True)
+
+    study = Study(args.preset, signals, t_end=outputs.get("t_end", 6.0), progress=progress)
+    results = [claim(study) for claim in claims]
+    table = format_table(results)
+    print(table)
+    if args.out:
+        from .files import atomic_write_text
+
+        out = Path(args.out)
+        atomic_write_text(out / "claims.txt", table + "\n")
+        print(f"wrote {out / 'claims.txt'}")
+    return 0
+
+
 def _cmd_cache(args):
     from .codegen import cache
 
@@ -321,6 +349,11 @@ def build_parser():
     st.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     st.add_argument("--t-end", type=float, default=0.5, help="length of the trial run whose states are scanned (s)")
     st.set_defaults(func=_cmd_stiffness)
+
+    va = sub.add_parser("validate", help="check the paper's claims from simulated spectra and print the table")
+    va.add_argument("preset")
+    va.add_argument("--out", help="also write claims.txt here")
+    va.set_defaults(func=_cmd_validate)
 
     ca = sub.add_parser("cache", help="show or clear the cache of generated models")
     ca.add_argument("action", choices=("info", "clear"))

@@ -74,7 +74,20 @@ def _print_progress(fraction, t):
         sys.stderr.write("\n")
 
 
-def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
+def _escaped(system, samples, bound):
+    """A run-away message if a bending displacement in ``samples`` exceeds ``bound`` (m), else ''."""
+    if bound is None or samples.size == 0:
+        return ""
+    rows = [i for i, name in enumerate(system.coordinate_names) if not name.startswith("alpha")]
+    values = np.abs(samples[rows])
+    if not (values > bound).any():
+        return ""
+    i, j = np.unravel_index(np.argmax(values), values.shape)
+    return (f"run-away: |{system.coordinate_names[rows[i]]}| = {values[i, j]:.3g} m exceeds the bound {bound:g} m "
+            "(likely dry-friction whirl or a lost support)")
+
+
+def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
     """One segment with a scipy OdeSolver, stepped here (as solve_ivp does) to keep
     every sample on failure, check states, honour the wall-time limit and, with
     ``contact_events``, restart at every contact onset and loss."""
@@ -139,10 +152,14 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
                 continue
             g_old = g_new
         take_samples(solver.dense_output, solver.t)
+        escaped = _escaped(system, solver.y[:, None], bound)
+        if escaped:
+            message = escaped
+            break
         if deadline is not None and _time.perf_counter() > deadline:
             message = "wall-time limit reached"
             break
-    ok = solver.status == "finished"
+    ok = solver.status == "finished" and not (message.startswith("run-away"))
     for key in ("nfev", "njev", "nlu"):
         counts[key] += getattr(solver, key)
     t_out = np.concatenate(ts) if ts else np.empty(0)
@@ -152,13 +169,13 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline):
                     message=message if not ok else "success")
 
 
-def _run_compiled(system, a, b, y, t_eval, options, tick, deadline):
-    """One segment in the compiled loop; with a wall-time limit it runs in chunks and
-    checks the clock between them (each chunk restarts the step-size control)."""
+def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
+    """One segment in the compiled loop; with a wall-time limit or a displacement bound
+    it runs in chunks and checks between them (each chunk restarts the step-size control)."""
     from .engines.rk_numba import integrate
 
     p = system.within(a, b).prepared_parameters
-    if deadline is None:
+    if deadline is None and bound is None:
         sol = integrate(system.core, a, b, y, p, t_eval, **options)
         n = sol.n_samples_done
         return _Segment(t=sol.t[:n], y=sol.y[:, :n], y_end=sol.y_reached, t_reached=sol.t_reached,
@@ -178,8 +195,11 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline):
         nfev += sol.nfev
         y = sol.y_reached
         done = sol.success and end == b
-        if not sol.success or done or _time.perf_counter() > deadline:
-            message = sol.message if not sol.success else ("success" if done else "wall-time limit reached")
+        escaped = _escaped(system, ys[-1], bound)
+        late = deadline is not None and _time.perf_counter() > deadline
+        if not sol.success or done or late or escaped:
+            message = (sol.message if not sol.success else escaped or ("wall-time limit reached" if late else "success"))
+            done = done and not escaped
             return _Segment(t=np.concatenate(ts), y=np.concatenate(ys, axis=1), y_end=y, t_reached=sol.t_reached,
                             nfev=nfev, success=done, message=message)
         chunk = (end - start) * min(10.0, max(0.5, 0.2 / max(wall, 1e-6)))  # aim at ~0.2 s of wall time
@@ -200,7 +220,7 @@ def _choose_engine(engine, system, method):
 
 
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
-             max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False):
+             max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False, bound=None):
     """Integrate a compiled system over ``t_span``.
 
     Parameters
@@ -229,6 +249,11 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     time_limit : float, optional
         Wall-time limit (s). When reached, the run stops cleanly with a
         :class:`SimulationError` holding the samples computed so far.
+    bound : float, optional
+        Largest bending displacement |x|, |y| (m) before a run counts as a
+        run-away (e.g. dry-friction whirl): it stops with a
+        :class:`SimulationError` saying so, instead of grinding on with ever
+        smaller steps.
     contact_events : bool
         Locate every contact onset and loss (the elements' switch functions:
         rub gap, each ball's deformation) and restart the integrator there,
@@ -271,6 +296,8 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
 
     if time_limit is not None and not time_limit > 0:
         raise ParameterError(f"time_limit={time_limit!r} must be > 0 (s) or None")
+    if bound is not None and not bound > 0:
+        raise ParameterError(f"bound={bound!r} must be > 0 (m) or None")
     if method not in IMPLICIT_METHODS and getattr(system, "has_jacobian", False):
         _warn_if_stiff(system, t0, y)
     options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
@@ -284,7 +311,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     deadline = None if time_limit is None else start_wall + time_limit
     for k, (a, b) in enumerate(_segments(t0, t1, system.time_events)):
         mask = (samples >= a) & (samples <= b) if k == 0 else (samples > a) & (samples <= b)
-        seg = run(system, a, b, y, samples[mask], options, tick, deadline)
+        seg = run(system, a, b, y, samples[mask], options, tick, deadline, bound)
         for key in ("nfev", "njev", "nlu", "events"):
             stats[key] += getattr(seg, key)
         stats["segments"] += 1

@@ -175,3 +175,14 @@ def test_contact_events_need_the_scipy_engine():
     if system.backend == "numba":
         with pytest.raises(rk.ParameterError, match="contact_events=True needs engine='scipy'"):
             rk.simulate(system, (0.0, 0.01), engine="compiled", contact_events=True)
+
+
+@pytest.mark.parametrize("engine", ["scipy"] + (["compiled"] if "numba" in rk.available_backends() else []))
+def test_run_away_is_stopped_and_explained(engine):
+    """MODEL_NOTES: at mu = 0.3 with k_r = 8e6 N/m the disk runs away into dry-friction whirl after the roll starts."""
+    system = rk.preset("al31f", friction_coefficient=0.3).compile()
+    with pytest.raises(rk.SimulationError, match="run-away: .* exceeds the bound 0.002 m") as info:
+        rk.simulate(system, (1.9, 3.0), y0=rk.simulate(system, (0.0, 1.9)).y[:, -1], engine=engine, bound=2e-3,
+                    time_limit=120)
+    assert 2.0 < info.value.time < 2.6  # shortly after the roll starts at 2 s
+    assert np.all(np.isfinite(info.value.partial.y))
