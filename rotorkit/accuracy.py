@@ -97,7 +97,8 @@ def study(system, t_span, *, cases=DEFAULT_CASES, tolerances=DEFAULT_TOLERANCES,
     system : rotorkit.System
     t_span : (float, float)
     cases : sequence of (engine, method)
-        Engines ``"compiled"`` (RK45, DOP853; numba back end) and ``"scipy"``.
+        Engines ``"compiled"`` (RK45, DOP853; numba back end), ``"scipy"``,
+        and ``"scipy+events"`` (scipy with contact event location and restarts).
     tolerances : sequence of float
         rtol values; ``atol = 1e-3 * rtol``.
     signals : sequence of str
@@ -126,9 +127,10 @@ def study(system, t_span, *, cases=DEFAULT_CASES, tolerances=DEFAULT_TOLERANCES,
         for rtol in sorted(tolerances, reverse=True):
             atol = rtol * ATOL_PER_RTOL
             start = time.perf_counter()
+            events = engine == "scipy+events"
             try:
-                res = simulate(system, t_span, method=method, rtol=rtol, atol=atol, engine=engine,
-                               sample_rate=sample_rate)
+                res = simulate(system, t_span, method=method, rtol=rtol, atol=atol,
+                               engine="scipy" if events else engine, contact_events=events, sample_rate=sample_rate)
             except SimulationError as err:
                 run = AccuracyRun(engine, method, rtol, atol, time.perf_counter() - start, 0, False,
                                   message=str(err).splitlines()[0])

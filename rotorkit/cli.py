@@ -166,8 +166,9 @@ def _parse_cases(text):
     cases = []
     for item in text.split(","):
         engine, _, method = item.strip().partition(":")
-        if engine not in ("compiled", "scipy") or not method:
-            raise ParameterError(f"--cases {item!r}: expected engine:method, e.g. compiled:DOP853 or scipy:Radau")
+        if engine not in ("compiled", "scipy", "scipy+events") or not method:
+            raise ParameterError(f"--cases {item!r}: expected engine:method, e.g. compiled:DOP853, scipy:Radau "
+                                 "or scipy+events:DOP853")
         cases.append((engine, method))
     return tuple(cases)
 
@@ -206,7 +207,7 @@ def _cmd_accuracy(args):
     print(f"reference took {reference.stats['wall_time']:.2f} s; its own error (vs rtol x10): pointwise "
           + ", ".join(f"{k} {v:.1e}" for k, v in ref_pw.items()) + "; spectral "
           + ", ".join(f"{k} {v:.1e}" for k, v in ref_sp.items()))
-    header = f"{'engine':9s} {'method':7s} {'rtol':>7s} {'wall s':>8s} {'nfev':>9s} " + " ".join(
+    header = f"{'engine':12s} {'method':7s} {'rtol':>7s} {'wall s':>8s} {'nfev':>9s} " + " ".join(
         f"{'pt ' + n:>16s} {'spec ' + n:>18s}" for n in signals)
     print(header)
 
@@ -214,7 +215,7 @@ def _cmd_accuracy(args):
         cols = " ".join(f"{run.pointwise.get(n, float('nan')):16.2e} {run.spectral.get(n, float('nan')):18.2e}"
                         for n in signals)
         status = "" if run.success else f"  FAILED: {run.message}"
-        print(f"{run.engine:9s} {run.method:7s} {run.rtol:7.0e} {run.wall_time:8.2f} {run.nfev:9d} {cols}{status}",
+        print(f"{run.engine:12s} {run.method:7s} {run.rtol:7.0e} {run.wall_time:8.2f} {run.nfev:9d} {cols}{status}",
               flush=True)
 
     runs, _ = accuracy.study(system, (0.0, t_end), cases=cases, tolerances=tolerances, signals=signals,
@@ -336,7 +337,8 @@ def build_parser():
     acc.add_argument("--set", action="append", default=[], metavar="NAME=VALUE")
     acc.add_argument("--out", help="output folder (default rotorkit-out/<preset>-accuracy)")
     acc.add_argument("--t-end", type=float)
-    acc.add_argument("--cases", help="engine:method list, e.g. compiled:DOP853,scipy:Radau (default: all)")
+    acc.add_argument("--cases", help="engine:method list, e.g. compiled:DOP853,scipy:Radau,scipy+events:DOP853 "
+                     "(default: all but events)")
     acc.add_argument("--tolerances", help="rtol list, e.g. 1e-4,1e-6,1e-8 (default 1e-3 ... 1e-10); atol = 1e-3 rtol")
     acc.add_argument("--reference-rtol", type=float, default=1e-12)
     acc.add_argument("--window", default="2.2,3.8", help="spectral window start,end in s")

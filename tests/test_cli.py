@@ -77,7 +77,7 @@ def test_accuracy_command_writes_table_and_figures(tmp_path, capsys):
                  "--tolerances", "1e-3", "--reference-rtol", "1e-8", "--out", str(tmp_path)])
     assert code == 0
     out = capsys.readouterr().out
-    assert "reference took" in out and "scipy     RK45" in out
+    assert "reference took" in out and "scipy        RK45" in out
     for name in ("accuracy.csv", "work_precision.png", "error_growth.png"):
         assert (tmp_path / name).stat().st_size > 0
     assert (tmp_path / "accuracy.csv").read_text().count("\n") == 2
