@@ -1,9 +1,15 @@
-"""Post-processing of simulated or measured rotor signals.
+"""Analyses of models and of simulated or measured rotor signals.
 
-:mod:`rotorkit.analysis.signals` holds the signal analysis of vibration
-signals: zero-phase high-pass filtering, amplitude spectra, short-time
-spectra, peak finding and labelling of frequencies as orders of the rotor
-speeds.
+- :mod:`rotorkit.analysis.signals`: zero-phase high-pass filtering,
+  amplitude spectra, short-time spectra, peak finding and labelling of
+  frequencies as orders of the rotor speeds;
+- :mod:`rotorkit.analysis.modes`: static equilibrium, linearisation,
+  natural frequencies, Campbell diagrams;
+- :mod:`rotorkit.analysis.stiffness`: time scales and the method that fits;
+- :mod:`rotorkit.analysis.loads`: the manoeuvre load on a station;
+- :mod:`rotorkit.analysis.energy`: energy balance along a run.
+
+Only the signal functions are imported here; the others load on use.
 """
 
 from .signals import (
