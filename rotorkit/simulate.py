@@ -54,9 +54,12 @@ class _Segment:
 
 
 def _sample_times(t0, t1, sample_rate):
-    n = int(math.floor((t1 - t0) * sample_rate + 1e-9)) + 1
+    """t0, t0 + 1/fs, ... and t1 itself (a last sample within 1e-6/fs of t1 is put on it)."""
+    n = int(math.floor((t1 - t0) * sample_rate + 1e-6)) + 1
     t = t0 + np.arange(n) / sample_rate
-    if t[-1] < t1 - 1e-12:
+    if abs(t[-1] - t1) <= 1e-6 / sample_rate:
+        t[-1] = t1
+    elif t[-1] < t1:
         t = np.append(t, t1)
     return t
 
@@ -169,9 +172,14 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
                     message=message if not ok else "success")
 
 
+#: with a wall-time limit or a bound, the compiled engine runs in chunks of this much simulated time (s)
+COMPILED_CHUNK = 0.1
+
+
 def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
     """One segment in the compiled loop; with a wall-time limit or a displacement bound
-    it runs in chunks and checks between them (each chunk restarts the step-size control)."""
+    it runs in chunks of :data:`COMPILED_CHUNK` simulated seconds and checks between them
+    (each chunk restarts the step-size control; the chunks are fixed, so runs repeat exactly)."""
     from .engines.rk_numba import integrate
 
     p = system.within(a, b).prepared_parameters
@@ -180,15 +188,13 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
         n = sol.n_samples_done
         return _Segment(t=sol.t[:n], y=sol.y[:, :n], y_end=sol.y_reached, t_reached=sol.t_reached,
                         nfev=sol.nfev, success=sol.success, message=sol.message)
-    ts, ys, nfev, start, chunk = [], [], 0, a, (b - a) / 100
+    ts, ys, nfev, start = [], [], 0, a
     while True:
-        end = min(start + chunk, b)
+        end = min(start + COMPILED_CHUNK, b)
         if b - end < 1e-9 * max(1.0, abs(b)):
             end = b
         mask = (t_eval > start) & (t_eval <= end) if ts or start > a else (t_eval >= start) & (t_eval <= end)
-        wall = _time.perf_counter()
         sol = integrate(system.core, start, end, y, p, t_eval[mask], **options)
-        wall = _time.perf_counter() - wall
         n = sol.n_samples_done
         ts.append(sol.t[:n])
         ys.append(sol.y[:, :n])
@@ -202,7 +208,6 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
             done = done and not escaped
             return _Segment(t=np.concatenate(ts), y=np.concatenate(ys, axis=1), y_end=y, t_reached=sol.t_reached,
                             nfev=nfev, success=done, message=message)
-        chunk = (end - start) * min(10.0, max(0.5, 0.2 / max(wall, 1e-6)))  # aim at ~0.2 s of wall time
         start = end
 
 

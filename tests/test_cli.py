@@ -90,3 +90,19 @@ def test_accuracy_command_writes_table_and_figures(tmp_path, capsys):
 def test_accuracy_argument_errors(args, match, capsys):
     assert main(args) == 2
     assert match in capsys.readouterr().err
+
+
+def test_sweep_command_draws_cascades_and_resumes(tmp_path, capsys):
+    args = ["sweep", "al31f", "--param", "rub_stiffness=2e6,8e6", "--workers", "1", "--out", str(tmp_path)]
+    assert main(args) == 0
+    first = capsys.readouterr()
+    assert "2 points: 2 ok" in first.out and first.err.count(": ok") == 2
+    for name in ("cascade_x2.png", "cascade_alpha2_minus_alpha5.png", "sweep.json"):
+        assert (tmp_path / name).stat().st_size > 0
+    assert main(args) == 0  # resumes: nothing recomputed
+    assert capsys.readouterr().err.count(": cached") == 2
+
+
+def test_sweep_rejects_an_unknown_parameter(capsys):
+    assert main(["sweep", "al31f", "--param", "rub_stifness=1:2:3"]) == 2
+    assert "did you mean rub_stiffness" in capsys.readouterr().err

@@ -186,3 +186,10 @@ def test_run_away_is_stopped_and_explained(engine):
                     time_limit=120)
     assert 2.0 < info.value.time < 2.6  # shortly after the roll starts at 2 s
     assert np.all(np.isfinite(info.value.partial.y))
+
+
+@pytest.mark.parametrize("span", [(0.2, 0.3), (0.0, 0.1), (1.05, 1.2)])
+def test_samples_cover_the_span_exactly(span):
+    res = rk.simulate(jeffcott(), span, sample_rate=1e4)
+    assert res.t[0] == span[0] and res.t[-1] == span[1]
+    assert len(res.t) == round((span[1] - span[0]) * 1e4) + 1
