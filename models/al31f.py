@@ -355,6 +355,20 @@ def claim_speed_region(study):
     return ClaimResult(claim, _verdict(sum(hits), 2), measured, "region edges get one sweep step (125 rad/s) of slack")
 
 
+def claim_speed_1800(study):
+    from rotorkit.validation import ClaimResult
+
+    claim = "omega_low = 1800 rad/s (Fig. 16): bending shows no fault frequency (1/2 omega_low), torsion shows omega_low"
+    run = study.run(lp_speed=1800.0)
+    if run.status != "ok":
+        return _skip(run, claim)
+    o = _orders(1800.0, DEFAULTS["speed_ratio"])
+    b, t = run.spectra["bending"], run.spectra["torsion"]
+    hits = [not study.shows(b, o["1/2 low"]), study.shows(t, o["low"])]
+    return ClaimResult(claim, _verdict(sum(hits), 2),
+                       f"bending 1/2 low {study.describe(b, o['1/2 low'])}; torsion low {study.describe(t, o['low'])}")
+
+
 #: the claims `rotorkit validate al31f` checks, in the paper's order
 CLAIMS = (claim_no_rub, claim_kr_2e6, claim_kr_8e6_bending, claim_kr_8e6_torsion, claim_kr_14e6,
-          claim_kr_bifurcations, claim_friction, claim_speed_region)
+          claim_kr_bifurcations, claim_friction, claim_speed_region, claim_speed_1800)
