@@ -10,6 +10,9 @@ Fig. 9  waterfalls (bending x2, torsion alpha2-alpha5) without rub
 Fig. 10-12  waterfalls at k_r = 2e6, 8e6, 1.4e7 N/m
 Fig. 13-15  spectrum cascades over k_r (5e5-2e7 N/m), friction (0-0.3), LP speed (500-3000 rad/s)
 Fig. 16  waterfalls at omega_low = 1800 rad/s
+0        (not in the paper) Campbell diagram over the LP speed, with the 1x LP and HP lines
+
+Each waterfall is also drawn as a 2-D spectrogram (fig*_spectrogram_*.png).
 
 Spectra follow the paper: a zero-phase high-pass (5 Hz) removes the slow
 manoeuvre offset; cascades use t in [2.2, 3.8] s; waterfalls are short-time
@@ -25,7 +28,7 @@ import numpy as np
 import rotorkit as rk
 from rotorkit.analysis.loads import maneuver_load
 from rotorkit.analysis.signals import highpass, stft
-from rotorkit.plotting.spectra import plot_cascade, plot_waterfall, speed_orders
+from rotorkit.plotting.spectra import plot_cascade, plot_spectrogram, plot_waterfall, speed_orders
 from rotorkit.sweep import run_sweep
 
 SIGNALS = {"bending": ("x2", 1e6, "x2 (µm)"), "torsion": ("alpha2-alpha5", 1e6, "alpha2 - alpha5 (µrad)")}
@@ -56,6 +59,7 @@ def waterfalls(out, name, title, **overrides):
     result = rk.simulate(rk.preset("al31f", **overrides).compile(), (0.0, 6.0))
     speed = overrides.get("lp_speed", 1500.0)
     fig = Figure(figsize=(13, 5.5), layout="constrained")
+    flat = Figure(figsize=(13, 4.5), layout="constrained")  # the same as 2-D spectrograms
     for k, (role, (signal, scale, label)) in enumerate(SIGNALS.items()):
         ax = fig.add_subplot(1, 2, k + 1, projection="3d")
         x = highpass(result.t, result[signal], 5.0)
@@ -63,8 +67,14 @@ def waterfalls(out, name, title, **overrides):
         plot_waterfall(tf, ax=ax, orders=speed_orders(speed, 1.8), fmax=5000.0, scale=scale,
                        amplitude_label=label)
         ax.set_title(f"({'ab'[k]}) {role}")
+        ax2 = flat.add_subplot(1, 2, k + 1)
+        plot_spectrogram(tf, ax=ax2, orders=speed_orders(speed, 1.8), fmax=5000.0, scale=scale,
+                         amplitude_label=label)
+        ax2.set_title(f"({'ab'[k]}) {role}")
     fig.suptitle(title)
+    flat.suptitle(title + " (spectrogram)")
     save(fig, out / name)
+    save(flat, out / name.replace("waterfall", "spectrogram"))
 
 
 def fig9(out, **_):
@@ -116,7 +126,18 @@ def fig15(out, points, workers):
              tuple(np.linspace(500.0, 3000.0, points)), lambda w: speed_orders(w, 1.8), workers)
 
 
-FIGURES = {7: fig7, 8: fig8, 9: fig9, 10: fig10, 11: fig11, 12: fig12, 13: fig13, 14: fig14, 15: fig15, 16: fig16}
+def campbell(out, **_):
+    """Campbell diagram over the LP speed (HP at 1.8 x LP) with the 1x lines: where omega_b sits."""
+    from rotorkit.analysis.modes import campbell as campbell_diagram
+    from rotorkit.plotting.campbell import plot_campbell
+
+    diagram = campbell_diagram(rk.preset("al31f"), np.linspace(200.0, 3000.0, 15), n_modes=6)
+    ax = plot_campbell(diagram)
+    ax.set_title("Campbell diagram, gravity-loaded AL-31F model")
+    save(ax.figure, out / "campbell.png")
+
+
+FIGURES = {0: campbell, 7: fig7, 8: fig8, 9: fig9, 10: fig10, 11: fig11, 12: fig12, 13: fig13, 14: fig14, 15: fig15, 16: fig16}
 
 
 if __name__ == "__main__":
