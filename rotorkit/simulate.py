@@ -142,17 +142,21 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
             crossed = np.flatnonzero(np.sign(g_old) * np.sign(g_new) < 0)
             if crossed.size:
                 dense = solver.dense_output()
-                t_event = min(brentq(lambda tt, i=i: segment.switch_values(tt, dense(tt))[i], t_old, solver.t,
-                                     xtol=1e-14, rtol=4 * np.finfo(float).eps) for i in crossed)
-                take_samples(lambda: dense, t_event)
-                y_event = dense(t_event)
-                for key in ("nfev", "njev", "nlu"):
-                    counts[key] += getattr(solver, key)
-                counts["events"] += 1
-                solver = solver_class(fun, t_event, y_event, b, **opts)
-                g_old = segment.switch_values(t_event, y_event)
-                g_old[crossed] = g_new[crossed]  # the crossing that stopped us is behind
-                continue
+                switch = lambda tt, i: segment.switch_values(tt, dense(tt))[i]  # noqa: E731
+                # only crossings the step's own interpolant brackets (g is ~0 right after a restart)
+                bracketed = [i for i in crossed if np.sign(switch(t_old, i)) * np.sign(switch(solver.t, i)) < 0]
+                if bracketed:
+                    t_event = min(brentq(switch, t_old, solver.t, args=(i,), xtol=1e-14,
+                                         rtol=4 * np.finfo(float).eps) for i in bracketed)
+                    take_samples(lambda: dense, t_event)
+                    y_event = dense(t_event)
+                    for key in ("nfev", "njev", "nlu"):
+                        counts[key] += getattr(solver, key)
+                    counts["events"] += 1
+                    solver = solver_class(fun, t_event, y_event, b, **opts)
+                    g_old = segment.switch_values(t_event, y_event)
+                    g_old[crossed] = g_new[crossed]  # the crossings that stopped us are behind
+                    continue
             g_old = g_new
         take_samples(solver.dense_output, solver.t)
         escaped = _escaped(system, solver.y[:, None], bound)
