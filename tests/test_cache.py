@@ -69,7 +69,7 @@ def test_damaged_entries_are_rebuilt(fresh_cache, monkeypatch, damage):
         bad = "def rhs(:\n"
         source.write_text(bad)
         data = json.loads(meta.read_text())
-        data["sha256"] = cache._digest(bad)
+        data["hmac"] = cache._digest(bad)
         meta.write_text(json.dumps(data))
     forget_in_memory(monkeypatch)
     system = jeffcott().compile(backend="python")  # rebuilt, no crash
@@ -103,3 +103,24 @@ def test_cli_cache_command(fresh_cache, capsys):
     assert "1 cached model" in capsys.readouterr().out
     assert main(["cache", "clear"]) == 0
     assert "removed 1" in capsys.readouterr().out
+
+
+def test_an_entry_from_elsewhere_is_never_imported(fresh_cache, tmp_path, monkeypatch):
+    """A cache copied from another machine (valid format, its own key) is rebuilt, not executed."""
+    jeffcott().compile(backend="python")
+    entry = fresh_cache / "models" / jeffcott().structure_key
+    planted = tmp_path / "planted"
+    source = entry.joinpath("rhs.py").read_text() + f"\nopen({str(planted)!r}, 'w').write('ran')\n"
+    entry.joinpath("rhs.py").write_text(source)
+    meta = json.loads(entry.joinpath("meta.json").read_text())
+    import hashlib
+    import hmac
+
+    meta["hmac"] = hmac.new(b"another user's key".ljust(32, b"0"), source.encode(), hashlib.sha256).hexdigest()
+    entry.joinpath("meta.json").write_text(json.dumps(meta))
+    forget_in_memory(monkeypatch)
+    jeffcott().compile(backend="python")
+    assert not planted.exists()
+    assert "open(" not in entry.joinpath("rhs.py").read_text()
+    key = fresh_cache / "secret.key"
+    assert key.stat().st_mode & 0o077 == 0

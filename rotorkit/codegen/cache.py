@@ -6,12 +6,15 @@ is stored under the model's ``structure_key``::
 
     <cache>/models/<key>/rhs.py      generated source (numba caches its
                                      machine code beside it, in __pycache__)
-    <cache>/models/<key>/meta.json   format, key, sha256 of rhs.py
+    <cache>/models/<key>/meta.json   format, key, HMAC-SHA256 of rhs.py
+    <cache>/secret.key               a random key, readable by this user only
 
 A warm start loads ``rhs.py`` without deriving anything. An entry is used
-only if ``meta.json`` parses as JSON, names this format and key, and the
-source's digest matches; anything else (truncated file, stale format,
-foreign content) is discarded and rebuilt, never an error.
+only if ``meta.json`` parses as JSON (data, never code), names this format
+and key, and the source's HMAC under *this user's* secret key matches;
+anything else (truncated file, stale format, an entry copied from another
+machine or user, planted content) is discarded and rebuilt, never an error
+and never imported.
 
 The cache folder is ``$ROTORKIT_CACHE_DIR`` or ``~/.cache/rotorkit``. Its
 entries are Python source that is imported, so the folder must belong to the
@@ -21,6 +24,7 @@ have planted.
 """
 
 import hashlib
+import hmac
 import importlib.util
 import json
 import os
@@ -35,7 +39,7 @@ from ..files import atomic_write_text
 
 __all__ = ["cache_dir", "load", "store", "clear", "info"]
 
-FORMAT = "rotorkit-model-cache-1"
+FORMAT = "rotorkit-model-cache-2"
 
 
 def _private(path):
@@ -69,8 +73,26 @@ def _entry(key):
     return cache_dir() / "models" / key
 
 
+def _secret():
+    """This user's random signing key (created on first use, mode 0600)."""
+    path = cache_dir() / "secret.key"
+    try:
+        key = path.read_bytes()
+        if len(key) == 32 and _private(path) and not path.stat().st_mode & 0o077:
+            return key
+    except OSError:
+        pass
+    key = os.urandom(32)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".secret.")
+    with os.fdopen(fd, "wb") as fh:  # mkstemp: mode 0600
+        fh.write(key)
+    os.replace(tmp, path)
+    return key
+
+
 def _digest(source):
-    return hashlib.sha256(source.encode("utf-8")).hexdigest()
+    """HMAC-SHA256 of the source under this user's key: only entries we wrote verify."""
+    return hmac.new(_secret(), source.encode("utf-8"), hashlib.sha256).hexdigest()
 
 
 def _import(key, path):
@@ -92,7 +114,7 @@ def load(key):
         meta = json.loads(meta_path.read_text(encoding="utf-8"))
         source = source_path.read_text(encoding="utf-8")
         valid = (isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("key") == key
-                 and meta.get("sha256") == _digest(source))
+                 and isinstance(meta.get("hmac"), str) and hmac.compare_digest(meta["hmac"], _digest(source)))
         if valid:
             module = _import(key, source_path)
             if module.STATE_NAMES and len(module.STATE_NAMES) == 2 * module.N_COORDINATES:
@@ -107,7 +129,7 @@ def store(key, source):
     """Write a generated module for ``key`` and import it."""
     entry = _entry(key)
     atomic_write_text(entry / "rhs.py", source)
-    atomic_write_text(entry / "meta.json", json.dumps({"format": FORMAT, "key": key, "sha256": _digest(source)}))
+    atomic_write_text(entry / "meta.json", json.dumps({"format": FORMAT, "key": key, "hmac": _digest(source)}))
     return _import(key, entry / "rhs.py")
 
 
