@@ -32,6 +32,10 @@ __all__ = ["simulate", "SCIPY_METHODS", "COMPILED_METHODS", "ENGINES"]
 
 SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 COMPILED_METHODS = ("RK45", "DOP853")
+#: a state beyond this magnitude has diverged (SI rotor states are many orders smaller)
+DIVERGED = 1e10
+#: with a wall-time limit, a compiled chunk also stops after this many step attempts to look at the clock
+CHUNK_STEPS = 200_000
 #: methods that use the analytic Jacobian generated from the symbolic equations
 IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
 ENGINES = ("auto", "compiled", "scipy")
@@ -134,8 +138,8 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
         if solver.status == "failed":
             message = step_message
             break
-        if not np.all(np.isfinite(solver.y)):
-            message = "non-finite state (NaN or inf) after a step"
+        if not np.all(np.isfinite(solver.y)) or np.abs(solver.y).max() > DIVERGED:
+            message = f"non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) after a step"
             break
         if events:
             g_new = segment.switch_values(solver.t, solver.y)
@@ -198,12 +202,19 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
         if b - end < 1e-9 * max(1.0, abs(b)):
             end = b
         mask = (t_eval > start) & (t_eval <= end) if ts or start > a else (t_eval >= start) & (t_eval <= end)
-        sol = integrate(system.core, start, end, y, p, t_eval[mask], **options)
+        budget = {"max_steps": CHUNK_STEPS} if deadline is not None else {}
+        sol = integrate(system.core, start, end, y, p, t_eval[mask], **options, **budget)
         n = sol.n_samples_done
         ts.append(sol.t[:n])
         ys.append(sol.y[:, :n])
         nfev += sol.nfev
         y = sol.y_reached
+        if sol.status == -3 and budget and _time.perf_counter() <= deadline:  # step budget spent: go on
+            start = sol.t_reached
+            continue
+        if sol.status == -3 and budget:  # out of steps and out of time
+            return _Segment(t=np.concatenate(ts), y=np.concatenate(ys, axis=1), y_end=y, t_reached=sol.t_reached,
+                            nfev=nfev, success=False, message="wall-time limit reached")
         done = sol.success and end == b
         escaped = _escaped(system, ys[-1], bound)
         late = deadline is not None and _time.perf_counter() > deadline

@@ -456,6 +456,19 @@ def _all_finite(x):
     return True
 
 
+#: a state beyond this magnitude has diverged (SI rotor states are many orders smaller)
+DIVERGED = 1e10
+
+
+@njit(**_JIT)
+def _all_finite_and_bounded(x):
+    """Return True when every entry of `x` is finite and below DIVERGED in magnitude."""
+    for v in x:
+        if not math.isfinite(v) or abs(v) > DIVERGED:
+            return False
+    return True
+
+
 @njit(**_JIT)
 def _weighted_sum(rows, weights, n_terms, out):
     """Write ``sum(weights[j] * rows[j] for j < n_terms)`` into `out`.
@@ -557,7 +570,7 @@ def _rk_step(core, t, y, h, p, a, b, c, n_stages, k, y_new, y_stage, work):
     _weighted_sum(k, b, n_stages, work)
     for i in range(n):
         y_new[i] = y[i] + h * work[i]
-    if not _all_finite(y_new):
+    if not _all_finite_and_bounded(y_new):
         return n_stages - 1, False
     core(t + h, y_new, p, k[n_stages])
     if not _all_finite(k[n_stages]):
@@ -924,8 +937,8 @@ def _status_message(status, t_reached, max_steps):
         return (f"Required step size is less than spacing between numbers "
                 f"(step fell below 10*eps*|t|) at t={t_reached!r}.")
     if status == STATUS_NON_FINITE:
-        return (f"Non-finite state or derivative (NaN or inf) produced by the "
-                f"core just after t={t_reached!r}; integration stopped.")
+        return (f"Non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) or non-finite derivative "
+                f"just after t={t_reached!r}; integration stopped.")
     if status == STATUS_MAX_STEPS:
         return (f"Maximum number of step attempts (max_steps={max_steps}) "
                 f"exceeded at t={t_reached!r}.")
