@@ -2,6 +2,7 @@
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -11,6 +12,9 @@ from .errors import ParameterError, RotorkitError, SimulationError
 __all__ = ["main", "parse_assignment"]
 
 _TRUE, _FALSE = {"true", "yes", "on", "1"}, {"false", "no", "off", "0"}
+#: a --set value: a plain decimal number, optionally followed by a unit expression (letters, /, *, ^, spaces)
+_QUANTITY = re.compile(r"^\s*([+-]?(?:inf|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?))\s*"
+                       r"((?![eE][+-]?\d)(?:1\s*/\s*)?[A-Za-zµ°Ω][A-Za-zµ°Ω0-9_ /*^.\-]*)?\s*$")
 
 
 def parse_assignment(text, defaults=None):
@@ -36,20 +40,23 @@ def parse_assignment(text, defaults=None):
         if low in _TRUE | _FALSE:
             return name, low in _TRUE
         raise ParameterError(f"--set {name}={raw!r}: expected true or false")
-    try:
-        return name, float(raw)
-    except ValueError:
-        pass
-    from .units import registry
-
-    try:
-        quantity = registry().Quantity(raw)
-    except Exception as exc:
+    match = _QUANTITY.match(raw)
+    if not match:
         raise ParameterError(
             f"--set {name}={raw!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')"
-        ) from exc
-    if not hasattr(quantity, "magnitude") or isinstance(quantity, (int, float)):
-        raise ParameterError(f"--set {name}={raw!r}: not a number")
+        )
+    number, unit = match.group(1), match.group(2)
+    value = float(number)  # a non-finite value is refused by the parameter's own check
+    if not unit:
+        return name, value
+    from .units import registry
+
+    if re.search(r"\d\s*\*\*|\*\*\s*\d{3,}", unit):
+        raise ParameterError(f"--set {name}={raw!r}: the unit {unit!r} is not a unit expression")
+    try:
+        quantity = value * registry().Unit(unit)
+    except Exception as exc:
+        raise ParameterError(f"--set {name}={raw!r}: {unit!r} is not a unit pint knows (e.g. N/m, mm, rpm)") from exc
     return name, quantity
 
 
@@ -423,8 +430,11 @@ def build_parser():
 
 
 def main(argv=None):
-    """Entry point of the ``rotorkit`` command."""
-    args = build_parser().parse_args(argv)
+    """Entry point of the ``rotorkit`` command: returns 0, or 2 on a usage or input error."""
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exit_:  # argparse printed its usage message
+        return int(exit_.code or 0)
     try:
         return args.func(args)
     except RotorkitError as err:

@@ -70,6 +70,7 @@ class Model:
             [f"x{s}" for s in self.stations] + [f"y{s}" for s in self.stations]
             + [f"alpha{s}" for s in self.torsion_stations]
         )
+        self._check_symbol_names()
 
     # -- topology -------------------------------------------------------
     @property
@@ -223,6 +224,21 @@ class Model:
                     "(a station without torsional coordinate); add a ShaftSegment with torsional_stiffness "
                     "(or shear_modulus, polar_area_moment, length) from it towards the drive"
                 )
+
+    def _check_symbol_names(self):
+        """Names are glued from labels, fields and stations: they must not collide."""
+        owner = {}
+        names = [(n, f"state {n}") for n in self.coordinate_names]
+        names += [(f"{n}_dot", f"state {n}_dot") for n in self.coordinate_names]
+        names += [(f"{e.label()}_{f}", f"parameter {f!r} of {type(e).__name__} {e.label()!r}")
+                  for e in self.elements for f in e.parameters()]
+        for name, what in names:
+            if name in owner:
+                raise TopologyError(
+                    f"Model: the name {name!r} stands for both {owner[name]} and {what}; rename an element "
+                    "(name=...) or a station so that the generated names differ"
+                )
+            owner[name] = what
 
     # -- parameters and effects -------------------------------------------
     @property

@@ -120,10 +120,31 @@ def _jsonable(d):
 
 
 def load_result(path):
-    """Read a file written by :meth:`Result.save` (parsed as data, never executed)."""
-    with np.load(Path(path), allow_pickle=False) as data:
-        meta = json.loads(str(data["meta"]))
-        if meta.get("format") != FILE_FORMAT:
-            raise ParameterError(f"{path}: not a rotorkit result file (format {meta.get('format')!r})")
-        return Result(t=data["t"].copy(), y=data["y"].copy(), state_names=tuple(meta["state_names"]),
-                      parameters=meta["parameters"], stats=meta["stats"], name=meta["name"])
+    """Read a file written by :meth:`Result.save` (parsed as data, never executed).
+
+    Raises
+    ------
+    ParameterError
+        The file is not a rotorkit result file (or is damaged).
+    FileNotFoundError
+        There is no such file.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(path)
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+            t, y = data["t"].copy(), data["y"].copy()
+        if not isinstance(meta, dict) or meta.get("format") != FILE_FORMAT:
+            raise ParameterError(f"{path}: not a rotorkit result file (format "
+                                 f"{meta.get('format') if isinstance(meta, dict) else None!r})")
+        names = tuple(meta["state_names"])
+        if t.ndim != 1 or y.shape != (len(names), t.size):
+            raise ParameterError(f"{path}: t {t.shape} and y {y.shape} do not fit {len(names)} state names")
+        return Result(t=t, y=y, state_names=names, parameters=dict(meta["parameters"]), stats=dict(meta["stats"]),
+                      name=str(meta["name"]))
+    except ParameterError:
+        raise
+    except Exception as exc:  # damaged or foreign content of any kind
+        raise ParameterError(f"{path}: not a readable rotorkit result file ({type(exc).__name__}: {exc})") from exc

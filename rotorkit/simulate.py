@@ -292,16 +292,16 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     """
     if method not in SCIPY_METHODS:
         raise ParameterError(f"method={method!r} is unknown; expected one of {', '.join(SCIPY_METHODS)}")
+    t0, t1, sample_rate, rtol, atol, max_step, time_limit = _check_arguments(
+        system, t_span, sample_rate, rtol, atol, max_step, time_limit, progress)
     if contact_events and engine == "compiled":
         raise ParameterError("contact_events=True needs engine='scipy' (the compiled engine does not locate events)")
     engine = "scipy" if contact_events and engine == "auto" else engine
     engine = _choose_engine(engine, system, method)
-    t0, t1 = (float(v) for v in t_span)
-    if not t1 > t0:
-        raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
-    if not sample_rate > 0:
-        raise ParameterError(f"sample_rate={sample_rate!r} must be > 0 (Hz)")
-    y = np.zeros(system.n_states) if y0 is None else np.array(y0, dtype=float)
+    try:
+        y = np.zeros(system.n_states) if y0 is None else np.array(y0, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"y0={y0!r} is not a vector of {system.n_states} real numbers") from exc
     if y.shape != (system.n_states,):
         raise ParameterError(f"y0 has shape {y.shape}; expected ({system.n_states},) in the order {system.state_names}")
     if not np.all(np.isfinite(y)):
@@ -314,9 +314,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         if report is not None and count[0] % 20000 == 0:
             report((t - t0) / (t1 - t0), t)
 
-    if time_limit is not None and not time_limit > 0:
-        raise ParameterError(f"time_limit={time_limit!r} must be > 0 (s) or None")
-    if bound is not None and not bound > 0:
+    if bound is not None and not (isinstance(bound, (int, float)) and bound > 0):
         raise ParameterError(f"bound={bound!r} must be > 0 (m) or None")
     if method not in IMPLICIT_METHODS and getattr(system, "has_jacobian", False):
         _warn_if_stiff(system, t0, y)
@@ -344,6 +342,46 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         if report is not None:
             report((b - t0) / (t1 - t0), b)
     return _result(system, out_t, out_y, stats, options, engine, start_wall, True, "success")
+
+
+def _number(value, name, expected, *, positive=True, allow_inf=False):
+    try:
+        v = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ParameterError(f"{name}={value!r} is not a number: expected {expected}") from None
+    if np.isnan(v) or (np.isinf(v) and not allow_inf) or (positive and not v > 0):
+        raise ParameterError(f"{name}={value!r}: expected {expected}")
+    return v
+
+
+def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_limit, progress):
+    """Every run setting checked before anything runs: ParameterError naming the argument."""
+    try:
+        t0, t1 = t_span
+    except (TypeError, ValueError):
+        raise ParameterError(f"t_span={t_span!r}: expected (start, end) in s") from None
+    t0 = _number(t0, "t_span start", "a finite time in s", positive=False)
+    t1 = _number(t1, "t_span end", "a finite time in s", positive=False)
+    if not t1 > t0:
+        raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
+    sample_rate = _number(sample_rate, "sample_rate", "a rate > 0 in Hz")
+    if (t1 - t0) * sample_rate > 1e9:
+        raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives more than 1e9 samples; "
+                             "lower the sample rate or the span")
+    rtol = _number(rtol, "rtol", "a relative tolerance > 0 (e.g. 1e-6)")
+    try:
+        atol_arr = np.asarray(atol, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"atol={atol!r}: expected a tolerance > 0 or one per state") from None
+    if atol_arr.ndim > 1 or (atol_arr.ndim == 1 and atol_arr.shape != (system.n_states,)) or \
+            not np.all(np.isfinite(atol_arr)) or not np.all(atol_arr > 0):
+        raise ParameterError(f"atol={atol!r}: expected a tolerance > 0, or {system.n_states} of them (one per state)")
+    max_step = _number(max_step, "max_step", "a step > 0 in s (inf: unbounded)", allow_inf=True)
+    if time_limit is not None:
+        time_limit = _number(time_limit, "time_limit", "a wall time > 0 in s, or None", allow_inf=True)
+    if progress is not None and progress is not True and progress is not False and not callable(progress):
+        raise ParameterError(f"progress={progress!r}: expected None, True or a function progress(fraction, t)")
+    return t0, t1, sample_rate, rtol, atol, max_step, time_limit
 
 
 def _warn_if_stiff(system, t0, y):

@@ -177,9 +177,12 @@ class System:
 
     def initial_state(self, **values):
         """A state vector of zeros with some named entries set (``x2=1e-4``)."""
+        from .units import to_si
+
         y = np.zeros(self.n_states)
         for name, v in values.items():
-            y[self.state_index(name)] = float(v)
+            index = self.state_index(name)
+            y[index] = to_si(v, "", name) if not hasattr(v, "magnitude") else float(v.to_base_units().magnitude)
         return y
 
     def __repr__(self):

@@ -80,6 +80,8 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
         magnitude = value
     try:
         magnitude = float(magnitude)
+    except OverflowError as exc:
+        raise ParameterError(f"{name} = {value!r} is too large: expected a finite value in {shown_unit}") from exc
     except (TypeError, ValueError) as exc:
         raise UnitError(f"{name} = {value!r} is not a scalar number in {shown_unit}") from exc
     if not math.isfinite(magnitude):

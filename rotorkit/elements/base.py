@@ -74,6 +74,12 @@ class Element:
             )
         for field_name, (_, sign) in self._units.items():
             value = getattr(self, field_name)
+            default = self.__dataclass_fields__[field_name].default
+            if value is None and default is not None:
+                raise ParameterError(
+                    f"{type(self).__name__}.{field_name} = None: expected a number in "
+                    f"{self.unit_of(field_name) or 'dimensionless units'} (default {default!r})"
+                )
             if value is not None:
                 si = to_si(value, self.unit_of(field_name), f"{type(self).__name__}.{field_name}", sign=sign)
                 object.__setattr__(self, field_name, si)

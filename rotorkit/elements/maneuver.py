@@ -40,7 +40,7 @@ class Maneuver(Element):
     """
 
     kind: str = "steady"
-    gravity: float = 9.81
+    gravity: float | None = None
     roll_rate: float | None = None
     roll_radius: float | None = None
     roll_start: float | None = None
@@ -91,6 +91,8 @@ class Maneuver(Element):
         kinds = ("steady", "barrel_roll", "profile")
         if self.kind not in kinds:
             raise ParameterError(f"Maneuver.kind={self.kind!r} is unknown; expected one of {kinds}")
+        if self.kind != "profile" and self.gravity is None:
+            raise ParameterError(f"Maneuver ({self.kind}): gravity = None; expected a number in m/s^2 (e.g. 9.81)")
         if self.kind == "barrel_roll":
             for f in ("roll_rate", "roll_radius", "roll_start", "roll_end"):
                 if getattr(self, f) is None:

@@ -1,0 +1,814 @@
+"""Energy balance of a simulated model: the Jacobi integral and the work done on it.
+
+For a Lagrangian system with ``L = T(q, q', t) - V(q, t)``, Rayleigh
+dissipation ``D(q')`` and generalised loads ``Q(q, q', t)``, the Jacobi
+integral ::
+
+    h = q' . dT/dq' - T + V
+
+changes at the rate ::
+
+    dh/dt = -dL/dt|explicit  -  q' . dD/dq'  +  Q . q'
+            (drive)             (damping)       (loads, per element)
+
+(from Lagrange's equations ``d/dt dL/dq' - dL/dq = -dD/dq' + Q``). Rotors
+spinning at a prescribed speed make ``T`` depend on ``t`` explicitly (the
+unbalance centroid turns with ``Omega t``): ``-dL/dt`` is the power the
+constant-speed drive puts into the vibration. So, with ``W(t)`` the work of
+all three power terms since the first sample,
+
+    residual(t) = h(t) - h(t0) - W(t)
+
+is zero for the exact solution. For a numerical solution it holds the
+solver's error (the states are only as good as ``rtol``/``atol``) plus the
+quadrature error of ``W`` on the samples. :func:`energy_balance` computes it
+from a :class:`~rotorkit.result.Result`; :func:`energy_terms` gives the
+symbolic pieces.
+
+Quadrature
+----------
+``W`` integrates the power on the samples with a piecewise-cubic rule: each
+interval integrates the cubic through the 4 samples around it (fourth order;
+``(-1, 13, 13, -1) h / 24`` on a uniform grid). Two things in the models are
+not smooth, and both are handled:
+
+- contact switches: ``ramp(g)``, ``step(g)`` and ``contact_ratio(r, delta)``
+  in a power channel give it a kink (or a jump) where ``g`` (``r - delta``)
+  changes sign. Where that happens between two samples, the interval is split
+  at the (linearly interpolated) crossing, each part integrated with samples
+  from its own side only, and the neighbouring intervals' stencils keep to
+  their side. Hertzian contacts ``ramp(g)**n`` with ``n > 1`` are once
+  continuously differentiable and integrated as smooth; with many balls they
+  set the quadrature's floor (order about 2, see ``quadrature_error``);
+- time events: the manoeuvre's loads jump at the model's time events (the
+  same ones :func:`~rotorkit.simulate` restarts at), so the integration is
+  split there and each side evaluated with time clamped inside its own
+  segment, as the solver saw it (an event between two samples is handled by
+  extrapolating each side's cubic to it).
+
+``quadrature_error`` is a bound on what the sampling adds to the residual:
+``max|W - W_2h|``, the difference between the work on all samples and on
+every second one. It also picks up the sampled states' own roughness (the
+solver's dense output), so it levels off near the solver's error. Choose the
+sample rate so that it stays well below the residual you want to resolve:
+for the AL-31F preset about 100 kHz at ``rtol = 1e-6`` and 400 kHz at
+``rtol = 1e-9``; very stiff contact (``k_r = 1e9 N/m``: short grazes)
+needs several times more.
+
+Scale of the relative residual
+------------------------------
+``relative_residual = max|residual| / scale`` with ::
+
+    scale = max( max_t |h(t) - h(t0)|,
+                 sum_k int_t0^t_end |P_k| dt,
+                 max_t q'^T M(q, t) q' / 2 )
+
+the largest of: the largest change of ``h``; the total energy that flowed
+through all power channels ``P_k`` (drive, damping and each load), counted
+without cancellation; and the largest kinetic energy of the motion relative
+to the prescribed spin (``M`` the mass matrix). The residual is made of
+errors proportional to these (an error of relative size ``rtol`` in the
+states gives errors of that relative size in every power term, in the energy
+in motion and so in ``h``), so this ratio tracks the solver tolerance
+whether the run is a free oscillation (nothing flows: the scale is the
+energy in motion), a steady forced whirl (drive in, damping out) or a rub
+(contact storing and returning energy, friction dissipating). ``h`` itself
+is only defined up to a constant (its part free of ``q``, ``q'`` and ``t``,
+such as ``-J Omega^2 / 2``, is dropped), so ``|h|`` is no scale.
+
+Examples
+--------
+>>> import rotorkit as rk
+>>> from rotorkit.analysis.energy import energy_balance
+>>> model = rk.Model([rk.Rotor(name="R", stations=(1,), speed=0.0),
+...                   rk.Disk(station=1, mass=2.0, radius=0.1),
+...                   rk.ElasticSupport(station=1, stiffness=2e4, damping=4.0)])
+>>> system = model.compile()
+>>> result = rk.simulate(system, (0.0, 0.5), y0=system.initial_state(x1=1e-3),
+...                      rtol=1e-10, atol=1e-13, sample_rate=20_000)
+>>> balance = energy_balance(model, result)
+>>> round(float(balance.h[0]), 6)              # k x^2 / 2 (J)
+0.01
+>>> bool(balance.relative_residual < 1e-8)
+True
+>>> bool(balance.dissipated.min() >= 0.0)      # damping takes energy out
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ParameterError, RotorkitError
+
+__all__ = ["EnergyTerms", "EnergyBalance", "energy_terms", "energy_balance", "plot_energy_balance"]
+
+#: samples evaluated per call of the lambdified functions (bounds the memory of CSE temporaries)
+_CHUNK = 32768
+
+#: power channels that are not element loads
+DRIVE, DAMPING = "drive", "damping"
+
+
+# -- symbolic terms ---------------------------------------------------------
+@dataclass(frozen=True)
+class EnergyTerms:
+    """The symbolic pieces of the energy balance of one model structure.
+
+    Attributes
+    ----------
+    t : sympy.Symbol
+    coordinates, speeds, parameters : tuple of sympy.Symbol
+        As in :class:`~rotorkit.symbolic.lagrange.EquationsOfMotion`.
+    jacobi : sympy.Expr
+        ``h = q' . dT/dq' - T + V`` without its constant part (J).
+    power : dict
+        Name -> power flowing into the system (W), as sympy expressions:
+        ``"drive"`` (``-dL/dt`` at fixed ``q, q'``), ``"damping"``
+        (``-q' . dD/dq'``, <= 0) and one entry per element with loads (its
+        label, ``Q_e . q'``). ``dh/dt`` is their sum.
+    motion : sympy.Expr
+        ``q'^T M(q, t) q' / 2``: the kinetic energy of the motion relative
+        to the prescribed spin (J), used for the scale of the residual.
+    """
+
+    t: sp.Symbol
+    coordinates: tuple
+    speeds: tuple
+    parameters: tuple
+    jacobi: sp.Expr
+    power: dict = field(default_factory=dict)
+    motion: sp.Expr = sp.S.Zero
+
+    @property
+    def names(self):
+        """Names of the power channels, in order."""
+        return tuple(self.power)
+
+
+_TERMS = {}
+_FUNCTIONS = {}
+
+
+def _as_model(model):
+    from ..model import Model
+
+    inner = getattr(model, "model", None)  # a compiled System
+    if isinstance(inner, Model):
+        return inner
+    if isinstance(model, Model):
+        return model
+    raise ParameterError(f"energy balance: expected a rotorkit Model or System, got {type(model).__name__}")
+
+
+def _drop_constant(expr, dynamic):
+    """``expr`` without its additive terms that are free of the dynamic symbols."""
+    expr = sp.expand(expr)
+    return sp.Add(*[a for a in sp.Add.make_args(expr) if a.free_symbols & dynamic])
+
+
+def _element_loads(model, eom):
+    """Element label -> {coordinate symbol: load expression} of every element with loads."""
+    from ..model import Context
+    from ..symbolic.lagrange import Symbols
+
+    ctx = Context(model, Symbols(model))
+    out = {}
+    for element in model.elements:
+        loads = element.contribute(ctx.bind(element)).loads
+        loads = {q: sp.sympify(v) for q, v in loads.items() if sp.sympify(v) != 0}
+        if loads:
+            out[element.label()] = loads
+    return out
+
+
+def energy_terms(model):
+    """The symbolic Jacobi integral and power channels of ``model`` (cached per structure).
+
+    Parameters
+    ----------
+    model : rotorkit.Model or rotorkit.System
+
+    Returns
+    -------
+    EnergyTerms
+
+    Raises
+    ------
+    ParameterError
+        A power channel would be named like an element (``"drive"``, ``"damping"``).
+    """
+    model = _as_model(model)
+    key = model.structure_key
+    if key in _TERMS:
+        return _TERMS[key]
+    eom = model.equations()
+    qs, us, t = tuple(eom.coordinates), tuple(eom.speeds), eom.t
+    T, V, D = sp.sympify(eom.kinetic), sp.sympify(eom.potential), sp.sympify(eom.dissipation)
+    momentum = sum((u * sp.diff(T, u) for u in us if u in T.free_symbols), sp.S.Zero)
+    dynamic = set(qs) | set(us) | {t}
+    jacobi = _drop_constant(momentum - T + V, dynamic)
+    power = {
+        DRIVE: sp.expand(-sp.diff(T - V, t)),
+        DAMPING: sp.expand(-sum((u * sp.diff(D, u) for u in us if u in D.free_symbols), sp.S.Zero)),
+    }
+    index = {q: i for i, q in enumerate(qs)}
+    for label, loads in _element_loads(model, eom).items():
+        if label in power:
+            raise ParameterError(f"energy balance: an element is labelled {label!r}, the name of a power channel; "
+                                 "give it another name=...")
+        power[label] = sum((load * us[index[q]] for q, load in loads.items()), sp.S.Zero)
+    u = sp.Matrix(us)
+    motion = sp.expand((u.T * eom.mass_matrix * u)[0, 0] / 2)
+    terms = EnergyTerms(t=t, coordinates=qs, speeds=us, parameters=tuple(eom.parameters), jacobi=jacobi,
+                        power=power, motion=motion)
+    _TERMS[key] = terms
+    return terms
+
+
+# -- numeric functions --------------------------------------------------------
+def _safe_div(a, b):
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    out = np.zeros(a.shape)
+    np.divide(a, b, out=out, where=b != 0.0)
+    return out
+
+
+def _numpy_printer():
+    from sympy.printing.numpy import NumPyPrinter
+
+    class EnergyPrinter(NumPyPrinter):
+        """NumPy printer for rotorkit's guarded functions, element-wise over sample arrays."""
+
+        def _np(self, name):
+            return self._module_format(f"numpy.{name}")
+
+        def _print_ramp(self, expr):
+            return f"{self._np('maximum')}({self._print(expr.args[0])}, 0.0)"
+
+        def _print_step(self, expr):
+            return f"{self._np('where')}(({self._print(expr.args[0])}) > 0.0, 1.0, 0.0)"
+
+        def _print_safe_div(self, expr):
+            a, b = (self._print(x) for x in expr.args)
+            return f"_safe_div({a}, {b})"
+
+        def _print_window(self, expr):
+            t, start, end = (self._print(x) for x in expr.args)
+            return f"{self._np('where')}((({start}) <= ({t})) & (({t}) < ({end})), 1.0, 0.0)"
+
+        def _print_contact_ratio(self, expr):
+            r, delta = (self._print(a) for a in expr.args)
+            return f"_contact_ratio({r}, {delta})"
+
+        def _print_hypot(self, expr):
+            x, y = (self._print(a) for a in expr.args)
+            return f"{self._np('hypot')}({x}, {y})"
+
+        def _nested(self, fn, args):
+            out = self._print(args[0])
+            for a in args[1:]:
+                out = f"{self._np(fn)}({out}, {self._print(a)})"
+            return out
+
+        def _print_Min(self, expr):
+            return self._nested("minimum", expr.args)
+
+        def _print_Max(self, expr):
+            return self._nested("maximum", expr.args)
+
+    return EnergyPrinter
+
+
+def _contact_ratio(r, delta):
+    """``max(r - delta, 0) / r``, with the limit 1 at ``r = delta = 0`` (as the generated code)."""
+    r, delta = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(delta, dtype=float))
+    out = np.where((r == 0.0) & (delta == 0.0), 1.0, 0.0)
+    inside = r > delta
+    np.divide(r - delta, r, out=out, where=inside)
+    return out
+
+
+#: rotorkit functions with a vectorised numpy translation in the printer above
+_TRANSLATED = {"ramp", "step", "safe_div", "window", "hypot", "contact_ratio"}
+
+
+def _scalar_fallbacks(exprs):
+    """Namespace entries for rotorkit functions without a numpy translation: the scalar
+    code the model's code generator prints for them, applied sample by sample (slower,
+    but with exactly the generated right-hand side's semantics)."""
+    import math
+
+    from ..codegen.printer import RhsPrinter
+
+    namespace = {}
+    for expr in exprs:
+        for f in expr.atoms(sp.Function):
+            cls = type(f)
+            name = cls.__name__
+            if not cls.__module__.startswith("rotorkit") or name in _TRANSLATED or name in namespace:
+                continue
+            args = sp.symbols(f"a0:{len(f.args)}", real=True)
+            try:
+                code = RhsPrinter().doprint(cls(*args))
+            except Exception as exc:  # noqa: BLE001 - reported with the function's name
+                raise RotorkitError(f"energy balance: cannot evaluate the function {name!r} "
+                                    f"(from {cls.__module__}): {exc}") from exc
+            env = {n: getattr(math, n) for n in dir(math) if not n.startswith("_")}
+            scalar = eval(f"lambda {', '.join(map(str, args))}: {code}", env)  # noqa: S307 - our own printer's output
+            namespace[name] = np.vectorize(scalar, otypes=[float])
+    return namespace
+
+
+def _switch_arguments(exprs):
+    """Arguments of the contact switches in ``exprs`` where the power has a kink or a jump.
+
+    ``ramp(g)`` and ``step(g)`` switch where ``g`` crosses zero, ``contact_ratio(r, delta)``
+    where ``r - delta`` does; ``ramp(g)**n``
+    with ``n > 1`` (Hertzian contact) is continuously differentiable there and
+    is integrated as a smooth function.
+    """
+    found = []
+
+    def visit(expr):
+        if expr.is_Pow and type(expr.base).__name__ == "ramp" and expr.exp.is_number and expr.exp > 1:
+            visit(expr.base.args[0])
+            return
+        name = type(expr).__name__
+        switch = None
+        if name in ("ramp", "step"):
+            switch = expr.args[0]
+        elif name == "contact_ratio":
+            switch = expr.args[0] - expr.args[1]
+        if switch is not None and switch not in found:
+            found.append(switch)
+        for arg in expr.args:
+            visit(arg)
+
+    for expr in exprs:
+        visit(expr)
+    return found
+
+
+class _Evaluator:
+    """Vectorised numeric ``h``, energy in motion, power channels and contact switches of one structure."""
+
+    def __init__(self, terms):
+        self.terms = terms
+        powers = list(terms.power.values())
+        self.switches = _switch_arguments(powers)
+        exprs = [terms.jacobi, terms.motion, *powers, *self.switches]
+        namespace = {"_safe_div": _safe_div, "_contact_ratio": _contact_ratio, **_scalar_fallbacks(exprs)}
+        args = [terms.t, *terms.coordinates, *terms.speeds, *terms.parameters]
+        self._fn = sp.lambdify(args, exprs, modules=[namespace, "numpy"], printer=_numpy_printer(), cse=True)
+
+    def __call__(self, t, q, u, p):
+        """(h, motion, {name: power}, switches) at samples ``t`` (n,), states ``q``, ``u``
+        (n_coords, n) and parameters ``p``; ``switches`` has shape (n_switches, n)."""
+        n, k = t.size, len(self.terms.power)
+        out = np.empty((2 + k + len(self.switches), n))
+        with np.errstate(all="ignore"):
+            for s in range(0, n, _CHUNK):
+                e = min(s + _CHUNK, n)
+                values = self._fn(t[s:e], *q[:, s:e], *u[:, s:e], *p)
+                for row, v in enumerate(values):
+                    out[row, s:e] = v  # broadcasts constants
+        return out[0], out[1], dict(zip(self.terms.power, out[2:2 + k])), out[2 + k:]
+
+
+def _evaluator(model):
+    key = model.structure_key
+    if key not in _FUNCTIONS:
+        _FUNCTIONS[key] = _Evaluator(energy_terms(model))
+    return _FUNCTIONS[key]
+
+
+# -- quadrature ---------------------------------------------------------------
+#: weights of the cubic through 4 equally spaced samples, integrated over one spacing, by the
+#: position of the interval: after the 1st sample (nodes -1, 0, 1, 2: the centred stencil), at the
+#: start of the samples (0, 1, 2, 3) and at their end (-2, -1, 0, 1)
+_UNIFORM_WEIGHTS = {
+    (-1.0, 0.0, 1.0, 2.0): np.array([-1.0, 13.0, 13.0, -1.0]) / 24.0,
+    (0.0, 1.0, 2.0, 3.0): np.array([9.0, 19.0, -5.0, 1.0]) / 24.0,
+    (-2.0, -1.0, 0.0, 1.0): np.array([1.0, -5.0, 19.0, 9.0]) / 24.0,
+}
+
+
+def _rule(t, lo, hi, start, count):
+    """A quadrature rule: ``(idx, w)`` of shape (k, 4) such that ``sum_j w[i, j] f[idx[i, j]]``
+    integrates over ``[lo[i], hi[i]]`` the polynomial through the ``count[i]`` (1..4) samples
+    ``start[i] ..`` of ``f`` (extrapolated where the interval lies outside them)."""
+    k = len(lo)
+    idx = np.repeat(np.asarray(start)[:, None], 4, axis=1)
+    w = np.zeros((k, 4))
+    width = hi - lo
+    scale = np.where(width > 0, width, 1.0)
+    for m in np.unique(count):
+        m = int(m)
+        powers = np.arange(m)
+        rows_m = np.flatnonzero(count == m)
+        for s in range(0, rows_m.size, _CHUNK):  # chunks bound the memory of the (k, m, m) systems
+            rows = rows_m[s:s + _CHUNK]
+            cols = start[rows, None] + powers[None, :]
+            nodes = (t[cols] - lo[rows, None]) / scale[rows, None]  # the interval maps to [0, 1]
+            weights = np.empty((rows.size, m))
+            todo = np.ones(rows.size, dtype=bool)
+            if m == 4:  # equally spaced samples (the usual case): known weights
+                for pattern, known in _UNIFORM_WEIGHTS.items():
+                    hit = np.all(np.abs(nodes - np.array(pattern)) < 1e-9, axis=1)
+                    weights[hit] = known
+                    todo &= ~hit
+            if np.any(todo):
+                vander = nodes[todo][:, None, :] ** powers[None, :, None]  # (k, power, node)
+                moments = np.broadcast_to(1.0 / (powers + 1.0), (int(todo.sum()), m))[..., None]
+                weights[todo] = np.linalg.solve(vander, moments)[..., 0]
+            idx[rows, :m] = cols
+            w[rows, :m] = width[rows, None] * weights
+    return idx, w
+
+
+def _apply(rule, f):
+    idx, w = rule
+    return np.einsum("kj,kj->k", w, f[idx])
+
+
+def _kinks(t, switches):
+    """(intervals, times): the sample intervals in which a contact switch changes sign,
+    and the time of the change (linear interpolation of the switch's argument)."""
+    none = (np.empty(0, dtype=int), np.empty(0))
+    if switches.shape[0] == 0 or t.size < 2:
+        return none
+    on = switches > 0.0
+    change = on[:, 1:] != on[:, :-1]
+    j = np.flatnonzero(change.any(axis=0))
+    if j.size == 0:
+        return none
+    which = np.argmax(change[:, j], axis=0)
+    a0, a1 = switches[which, j], switches[which, j + 1]
+    with np.errstate(all="ignore"):
+        frac = np.clip(np.nan_to_num(a0 / (a0 - a1), nan=0.5), 0.0, 1.0)
+    return j, t[j] + frac * (t[j + 1] - t[j])
+
+
+def _stencils(n, kinks):
+    """Per interval ``j`` of ``n`` samples: the first and last sample on its side of
+    the neighbouring kinks (``first[j] <= j < j + 1 <= last[j]`` off kinks)."""
+    m = n - 1
+    j = np.arange(m)
+    is_kink = np.zeros(m, dtype=bool)
+    is_kink[kinks] = True
+    last_left = np.maximum.accumulate(np.where(is_kink, j, -1))
+    kink_left = np.concatenate(([-1], last_left[:-1]))  # last kink interval < j
+    first_right = np.minimum.accumulate(np.where(is_kink, j, m)[::-1])[::-1]
+    kink_right = np.concatenate((first_right[1:], [m]))  # first kink interval > j (m: none)
+    return kink_left + 1, kink_right  # samples kink_left + 1 .. kink_right are on one side
+
+
+def _segment_rule(t, kinks):
+    """The rule integrating each sample interval of one segment (see :func:`_segment_work`).
+
+    Returns ``(main, split)``: ``main`` a rule per interval; ``split`` ``None`` or
+    ``(k, left, right)``, the kink intervals ``k`` and the rules of their parts.
+    """
+    n = t.size
+    j = np.arange(n - 1)
+    first, last = _stencils(n, kinks[0])
+    count = np.minimum(4, last - first + 1)
+    start = np.clip(j - 1, first, last - count + 1)
+    main = _rule(t, t[:-1], t[1:], start, count)
+    k, tk = kinks
+    if not k.size:
+        return main, None
+    left = np.minimum(4, k - first[k] + 1)  # samples first .. k
+    right = np.minimum(4, last[k] - k)  # samples k + 1 .. last
+    return main, (k, _rule(t, t[k], tk, k - left + 1, left), _rule(t, tk, t[k + 1], k + 1, right))
+
+
+def _segment_work(t, fs, kinks):
+    """Cumulative integrals of each of ``fs`` over the samples ``t`` (all (n,)), from 0.
+
+    Each interval integrates the cubic through the 4 samples around it; near a
+    kink of the power (``kinks``: intervals and times) the stencil takes only
+    samples on the interval's side, and a kink's own interval is split at the
+    kink and each part integrated with its side's samples.
+    """
+    n = t.size
+    if n < 2:
+        return [np.zeros(n) for _ in fs]
+    main, split = _segment_rule(t, kinks)
+    out = []
+    for f in fs:
+        pieces = _apply(main, f)
+        if split is not None:
+            k, left, right = split
+            pieces[k] = _apply(left, f) + _apply(right, f)
+        out.append(np.concatenate(([0.0], np.cumsum(pieces))))
+    return out
+
+
+def _edge_work(t, f, kinks, lo, hi, at_start):
+    """Integral of the segment's interpolant over ``[lo, hi]`` beyond its first or last sample."""
+    if hi <= lo or t.size == 0:
+        return 0.0
+    k = kinks[0]
+    if at_start:
+        m = min(4, int(k[0]) + 1 if k.size else t.size)
+        start = 0
+    else:
+        m = min(4, t.size - 1 - int(k[-1]) if k.size else t.size)
+        start = t.size - m
+    rule = _rule(t, np.array([lo]), np.array([hi]), np.array([start]), np.array([m]))
+    return float(_apply(rule, f)[0])
+
+
+@dataclass
+class _Piece:
+    """Samples of one segment between time events, evaluated as the solver saw them."""
+
+    idx: np.ndarray  # sample indices (boundary samples shared with the neighbours)
+    powers: dict  # name -> power at those samples
+    kinks: tuple  # (interval indices within the segment, times)
+
+
+def _cumulative_work(t, pieces, cuts, names):
+    """Cumulative work (J) of each named power channel over the samples, segment by segment."""
+    work = {name: np.zeros(t.size) for name in names}
+    prev = None
+    for (a, _), piece in zip(zip(cuts[:-1], cuts[1:]), pieces):
+        if piece.idx.size == 0:
+            continue
+        ts = t[piece.idx]
+        cumulative = _segment_work(ts, [piece.powers[name] for name in names], piece.kinks)
+        for name, w in zip(names, cumulative):
+            base = 0.0
+            if prev is not None:
+                base = work[name][prev.idx[-1]]
+                if ts[0] > t[prev.idx[-1]]:  # the event lies between two samples: integrate each side
+                    base += _edge_work(t[prev.idx], prev.powers[name], prev.kinks, t[prev.idx[-1]], a,
+                                       at_start=False)
+                    base += _edge_work(ts, piece.powers[name], piece.kinks, a, ts[0], at_start=True)
+            work[name][piece.idx] = base + w
+        prev = piece
+    return work
+
+
+# -- the balance --------------------------------------------------------------
+@dataclass(frozen=True)
+class EnergyBalance:
+    """The energy balance of a simulated run (see the module docstring).
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        Sample times (s), shape (n,).
+    h : numpy.ndarray
+        Jacobi integral ``q' . dT/dq' - T + V`` (J), shape (n,), up to a constant.
+    power_in : mapping of str to numpy.ndarray
+        Power flowing into the system (W), each shape (n,): ``"drive"``
+        (``-dL/dt`` at fixed ``q, q'``: the constant-speed drive), ``"damping"``
+        (``-q' . dD/dq'``, <= 0) and one entry per element with loads, by
+        label (``"rub2"``, ``"bearing4_7"``, ``"maneuver"``: ``Q_e . q'``).
+        At a sample on a time event the value is the one after the event.
+    work : mapping of str to numpy.ndarray
+        ``int_t0^t`` of each ``power_in`` entry (J), each shape (n,).
+    residual : numpy.ndarray
+        ``h - h(t0) - sum(work)`` (J), shape (n,).
+    scale : float
+        ``max(max|h - h0|, sum_k int |P_k| dt, max q'^T M q' / 2)`` (J): see
+        the module docstring.
+    relative_residual : float
+        ``max|residual| / scale``.
+    quadrature_error : float
+        Bound (J) on the part of ``max|residual|`` due to integrating the
+        power on the samples: ``max|W - W_(every 2nd sample)|``. It also
+        picks up the sampled states' own roughness, so it levels off near
+        the solver's error (see the module docstring).
+    events : tuple of float
+        Time events (s) the integration was split at.
+    """
+
+    t: np.ndarray
+    h: np.ndarray
+    power_in: Mapping
+    work: Mapping
+    residual: np.ndarray
+    scale: float
+    relative_residual: float
+    quadrature_error: float
+    events: tuple = ()
+
+    @property
+    def dissipated(self):
+        """Power taken out by the Rayleigh dissipation, ``q' . dD/dq'`` (W), >= 0, shape (n,)."""
+        return -self.power_in[DAMPING]
+
+    @property
+    def loads(self):
+        """Element label -> power of its loads (W), shape (n,) each."""
+        return {k: v for k, v in self.power_in.items() if k not in (DRIVE, DAMPING)}
+
+    @property
+    def total_work(self):
+        """``W(t)``: the work of all power channels since ``t0`` (J), shape (n,)."""
+        return sum(self.work.values(), np.zeros_like(self.t))
+
+    @property
+    def relative_quadrature_error(self):
+        """``quadrature_error / scale``."""
+        return self.quadrature_error / self.scale if self.scale > 0 else 0.0
+
+    def summary(self):
+        """A few lines: the change of ``h``, the work per channel and the residual."""
+        lines = [f"energy balance over t = {self.t[0]:g} .. {self.t[-1]:g} s ({self.t.size} samples)",
+                 f"  h(t_end) - h(t0)   {self.h[-1] - self.h[0]: .6e} J"]
+        for name, w in self.work.items():
+            lines.append(f"  work {name:<13s} {w[-1]: .6e} J")
+        lines += [f"  max |residual|     {np.max(np.abs(self.residual)): .3e} J",
+                  f"  scale              {self.scale: .3e} J",
+                  f"  relative residual  {self.relative_residual: .3e} "
+                  f"(quadrature part ~ {self.relative_quadrature_error:.1e})"]
+        return "\n".join(lines)
+
+    def plot(self, ax=None, **kwargs):
+        """Plot ``h - h0``, the work per channel and the residual; returns the matplotlib Axes."""
+        return plot_energy_balance(self, ax=ax, **kwargs)
+
+
+def _events(model, parameters, t0, t1):
+    times = [parameters[n] for n in model.time_event_parameters()] + list(model.fixed_time_events())
+    return tuple(sorted({float(e) for e in times if t0 < e < t1}))
+
+
+def _parameter_vector(terms, parameters):
+    names = [str(p) for p in terms.parameters]
+    missing = [n for n in names if n not in parameters]
+    if missing:
+        raise ParameterError(f"energy balance: result.parameters lacks {', '.join(missing)}; "
+                             "use the Result of a simulation of this model")
+    return [float(parameters[n]) for n in names]
+
+
+def _states(terms, result):
+    names = [str(q) for q in terms.coordinates]
+    missing = [n for n in names + [f"{n}_dot" for n in names] if n not in result.state_names]
+    if missing:
+        raise ParameterError(f"energy balance: the result has no states {', '.join(missing[:4])} "
+                             f"(states: {', '.join(result.state_names)}); is it a run of this model?")
+    q = np.array([result[n] for n in names], dtype=float)
+    u = np.array([result[f"{n}_dot"] for n in names], dtype=float)
+    return q, u
+
+
+def _balance_on(evaluator, t, q, u, p, cuts):
+    """h and energy in motion at the samples, and the samples of each segment as pieces."""
+    pieces = []
+    h, motion = np.empty(t.size), np.empty(t.size)
+    switches = np.empty((len(evaluator.switches), t.size))
+    for k, (a, b) in enumerate(zip(cuts[:-1], cuts[1:])):
+        idx = np.flatnonzero((t >= a) & (t <= b))
+        # time as the solver saw it inside this segment (clamped just inside, like System.within)
+        lo = np.nextafter(a, b) if k > 0 else a
+        hi = np.nextafter(b, a) if k < len(cuts) - 2 else b
+        ts = np.clip(t[idx], lo, hi)
+        hs, ms, powers, sw = evaluator(ts, q[:, idx], u[:, idx], p)
+        h[idx] = hs  # a boundary sample takes the later segment's value (h is continuous)
+        motion[idx] = ms
+        pieces.append(_Piece(idx=idx, powers=powers, kinks=_kinks(t[idx], sw)))
+        switches[:, idx] = sw
+    return h, motion, pieces, switches
+
+
+def energy_balance(model, result):
+    """The energy balance of ``result``, a run of ``model``.
+
+    Parameters
+    ----------
+    model : rotorkit.Model or rotorkit.System
+        The model that was simulated (only its structure is used; parameter
+        values come from ``result.parameters``).
+    result : rotorkit.Result
+        Samples of the run (a failed run's ``err.partial`` works too), at
+        least 2 samples; states ``q`` and ``q_dot`` by name.
+
+    Returns
+    -------
+    EnergyBalance
+
+    Raises
+    ------
+    ParameterError
+        The result does not belong to the model (states or parameters
+        missing), has fewer than 2 samples or non-finite states, or the
+        energy or power overflows (a run-away to absurd amplitudes).
+
+    Notes
+    -----
+    The symbolic terms are derived once per model structure and the numeric
+    functions built once (sympy ``lambdify``; a few seconds for the AL-31F
+    preset); later calls only evaluate them.
+    """
+    model = _as_model(model)
+    t = np.array(result.t, dtype=float)
+    if t.ndim != 1 or t.size < 2:
+        raise ParameterError(f"energy balance: the result has {t.size} samples; at least 2 are needed")
+    if np.any(np.diff(t) <= 0):
+        raise ParameterError("energy balance: the result's sample times must increase strictly")
+    terms = energy_terms(model)
+    evaluator = _evaluator(model)
+    p = _parameter_vector(terms, result.parameters)
+    q, u = _states(terms, result)
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(u))):
+        raise ParameterError("energy balance: the result holds non-finite states (NaN or inf)")
+    events = _events(model, result.parameters, t[0], t[-1])
+    cuts = [float(t[0]), *events, float(t[-1])]
+    h, motion, pieces, switches = _balance_on(evaluator, t, q, u, p, cuts)
+    names = terms.names
+    bad = ~np.isfinite(h) | ~np.isfinite(motion)
+    for piece in pieces:
+        for values in piece.powers.values():
+            bad[piece.idx] |= ~np.isfinite(values)
+    if np.any(bad):
+        first = int(np.argmax(bad))
+        raise ParameterError(
+            f"energy balance: the energy or power overflows from t = {t[first]:.6g} s on (largest state "
+            f"{np.max(np.abs(np.concatenate([q[:, first], u[:, first]]))):.3g}); evaluate it on the samples "
+            "before, e.g. energy_balance(model, result.window(t0, t1))")
+    flow = "\0|P|"  # the sum of |P_k| over the channels, for the scale (integrated with the same rule)
+    for piece in pieces:
+        piece.powers[flow] = sum((np.abs(piece.powers[name]) for name in names), np.zeros(piece.idx.size))
+    work = _cumulative_work(t, pieces, cuts, [*names, flow])
+    absolute = work.pop(flow)[-1]
+    for piece in pieces:
+        del piece.powers[flow]
+    total = sum(work.values(), np.zeros_like(t))
+    residual = h - h[0] - total
+    power_in = {name: np.empty(t.size) for name in names}
+    for piece in pieces:
+        for name, values in piece.powers.items():
+            power_in[name][piece.idx] = values
+    scale = max(float(np.max(np.abs(h - h[0]))), float(absolute), float(np.max(motion)))
+    quad = _quadrature_error(t, pieces, switches, cuts, total) if names else 0.0
+    rel = float(np.max(np.abs(residual)) / scale) if scale > 0 else 0.0
+    for arr in (t, h, residual, *power_in.values(), *work.values()):
+        arr.setflags(write=False)
+    return EnergyBalance(t=t, h=h, power_in=MappingProxyType(power_in), work=MappingProxyType(work),
+                         residual=residual, scale=scale,
+                         relative_residual=rel, quadrature_error=quad, events=events)
+
+
+def _quadrature_error(t, pieces, switches, cuts, total):
+    """max |W - W'| where W' integrates every second sample (segment boundaries kept)."""
+    keep = np.zeros(t.size, dtype=bool)
+    keep[::2] = True
+    keep[-1] = True
+    for piece in pieces:
+        if piece.idx.size:
+            keep[piece.idx[0]] = keep[piece.idx[-1]] = True
+    sub = np.flatnonzero(keep)
+    if sub.size < 3 or sub.size == t.size:
+        return 0.0
+    remap = -np.ones(t.size, dtype=int)
+    remap[sub] = np.arange(sub.size)
+    coarse = []
+    for piece in pieces:
+        mask = keep[piece.idx]
+        idx = piece.idx[mask]
+        summed = sum(piece.powers.values(), np.zeros(piece.idx.size))[mask]
+        coarse.append(_Piece(idx=remap[idx], powers={"all": summed}, kinks=_kinks(t[idx], switches[:, idx])))
+    w = _cumulative_work(t[sub], coarse, cuts, ["all"])["all"]
+    return float(np.max(np.abs(total[sub] - w)))
+
+
+def plot_energy_balance(balance, ax=None, *, channels=True):
+    """Plot ``h - h0``, the work of each power channel and the residual against time.
+
+    Parameters
+    ----------
+    balance : EnergyBalance
+    ax : matplotlib.axes.Axes, optional
+    channels : bool
+        Also draw the work of each channel.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots()
+    ax.plot(balance.t, balance.h - balance.h[0], label="h - h0", lw=1.5)
+    if channels:
+        for name, w in balance.work.items():
+            ax.plot(balance.t, w, label=f"work: {name}", lw=1)
+    ax.plot(balance.t, balance.residual, label="residual", lw=1, color="k")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("energy (J)")
+    ax.legend(loc="best", fontsize="small")
+    return ax
+
