@@ -317,7 +317,7 @@ def run(c, window=None, *, rtol=RTOL, sample_rate=None, time_limit=TIME_LIMIT, e
     result = None
     if window[0] > 0.0:
         try:
-            pre = rk.simulate(system, (0.0, window[0]), sample_rate=PREFIX_SAMPLE_RATE, **options)
+            pre = rk.simulate(system, (0.0, window[0]), sample_rate=PREFIX_SAMPLE_RATE, bound=None, **options)
         except rk.SimulationError as err:
             pre, out.message, out.t_reached = err.partial, str(err).splitlines()[0], err.time
         wall, nfev = pre.stats["wall_time"], pre.stats["nfev"]
@@ -328,7 +328,7 @@ def run(c, window=None, *, rtol=RTOL, sample_rate=None, time_limit=TIME_LIMIT, e
             return out
         y0 = pre.y[:, -1].copy()
     try:
-        result = rk.simulate(system, window, y0=y0, sample_rate=sample_rate, **options)
+        result = rk.simulate(system, window, y0=y0, sample_rate=sample_rate, bound=None, **options)
         out.success, out.message, out.t_reached = True, "success", window[1]
     except rk.SimulationError as err:
         result, out.message, out.t_reached = err.partial, str(err).splitlines()[0], err.time

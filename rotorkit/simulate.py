@@ -240,7 +240,7 @@ def _choose_engine(engine, system, method):
 
 
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
-             max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False, bound=None):
+             max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False, bound="auto"):
     """Integrate a compiled system over ``t_span``.
 
     Parameters
@@ -269,11 +269,14 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     time_limit : float, optional
         Wall-time limit (s). When reached, the run stops cleanly with a
         :class:`SimulationError` holding the samples computed so far.
-    bound : float, optional
+    bound : float, "auto" or None
         Largest bending displacement |x|, |y| (m) before a run counts as a
-        run-away (e.g. dry-friction whirl): it stops with a
-        :class:`SimulationError` saying so, instead of grinding on with ever
-        smaller steps.
+        run-away (e.g. dry-friction whirl): a float stops the run there with a
+        :class:`SimulationError` (early, by checking as it goes). ``"auto"``
+        (default): for a scene with a rub stator, max(1 cm, 100 x the largest
+        rub clearance), checked on the samples after the run, so a run-away
+        never comes back as a result (the numerics are those of an unbounded
+        run); no bound without a stator. ``None``: no check.
     contact_events : bool
         Locate every contact onset and loss (the elements' switch functions:
         rub gap, each ball's deformation) and restart the integrator there,
@@ -314,8 +317,11 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         if report is not None and count[0] % 20000 == 0:
             report((t - t0) / (t1 - t0), t)
 
+    checked_after = None
+    if isinstance(bound, str) and bound == "auto":
+        bound, checked_after = None, _auto_bound(system)
     if bound is not None and not (isinstance(bound, (int, float)) and bound > 0):
-        raise ParameterError(f"bound={bound!r} must be > 0 (m) or None")
+        raise ParameterError(f"bound={bound!r} must be > 0 (m), 'auto' or None")
     if method not in IMPLICIT_METHODS and getattr(system, "has_jacobian", False):
         _warn_if_stiff(system, t0, y)
     options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
@@ -341,7 +347,40 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         y = seg.y_end
         if report is not None:
             report((b - t0) / (t1 - t0), b)
-    return _result(system, out_t, out_y, stats, options, engine, start_wall, True, "success")
+    result = _result(system, out_t, out_y, stats, options, engine, start_wall, True, "success")
+    if checked_after is not None:
+        _raise_if_ran_away(system, result, checked_after)
+    return result
+
+
+AUTO_BOUND_FLOOR = 0.01  # m
+AUTO_BOUND_FACTOR = 100.0
+
+
+def _auto_bound(system):
+    """The default run-away bound: for a scene with a rub stator, max(1 cm, 100 x its largest clearance)."""
+    from .elements import RubStator
+
+    model = getattr(system, "model", None)
+    clearances = [e.clearance for e in getattr(model, "elements", ()) if isinstance(e, RubStator)]
+    return max(AUTO_BOUND_FLOOR, AUTO_BOUND_FACTOR * max(clearances)) if clearances else None
+
+
+def _raise_if_ran_away(system, result, bound):
+    """A run that passed the bound comes back as an error, with the samples before it."""
+    rows = [i for i, name in enumerate(system.coordinate_names) if not name.startswith("alpha")]
+    over = np.abs(result.y[rows]) > bound
+    if not over.any():
+        return
+    first = int(np.argmax(over.any(axis=0)))
+    row = rows[int(np.argmax(over[:, first]))]
+    partial = result.window(result.t[0], result.t[max(first - 1, 0)])
+    raise SimulationError(
+        f"{system.name}: run-away at t = {result.t[first]:.6g} s: |{system.coordinate_names[row]}| = "
+        f"{abs(result.y[row, first]):.3g} m exceeds the bound {bound:g} m (default for a scene with a rub stator: "
+        "100 x its clearance, at least 1 cm). Likely dry-friction whirl; the samples before it are in err.partial. "
+        "Pass bound=<m> to stop such runs early, or bound=None to accept them.",
+        partial=partial, time=float(result.t[first]))
 
 
 def _number(value, name, expected, *, positive=True, allow_inf=False):

@@ -152,7 +152,7 @@ def test_jeffcott_run_away_in_permanent_contact_grows_at_the_closed_form_rate():
     assert max(jeffcott_eigenvalues(0.1).real) < 0  # the nominal friction is below the threshold
 
     model, system = hc.build(hc.case("jeffcott:clearance_0_mu_0.3"))
-    result = rk.simulate(system, (0.0, 1.0), rtol=1e-10, atol=1e-16, sample_rate=20_000.0)
+    result = rk.simulate(system, (0.0, 1.0), rtol=1e-10, atol=1e-16, sample_rate=20_000.0, bound=None)
     r = np.hypot(result["x2"], result["y2"])
     grown = (r > 1e-1) & (r < 1e3)  # far above the forced response, the unstable mode alone
     assert grown.sum() > 1000
@@ -191,8 +191,8 @@ def test_al31f_run_aways_are_backward_whirls_fed_by_friction(key):
     model, system = hc.build(c)
     y0 = None
     if c.ci_window[0] > 0:
-        y0 = rk.simulate(system, (0.0, c.ci_window[0]), rtol=1e-6, atol=1e-12, sample_rate=1_000.0).y[:, -1]
-    result = rk.simulate(system, c.ci_window, y0=y0, rtol=1e-6, atol=1e-12, sample_rate=100_000.0)
+        y0 = rk.simulate(system, (0.0, c.ci_window[0]), rtol=1e-6, atol=1e-12, sample_rate=1_000.0, bound=None).y[:, -1]
+    result = rk.simulate(system, c.ci_window, y0=y0, rtol=1e-6, atol=1e-12, sample_rate=100_000.0, bound=None)
     r = np.hypot(result["x2"], result["y2"])
     late = r > hc.RUNAWAY_RADIUS
     assert late.sum() > 100

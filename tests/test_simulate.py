@@ -193,3 +193,13 @@ def test_samples_cover_the_span_exactly(span):
     res = rk.simulate(jeffcott(), span, sample_rate=1e4)
     assert res.t[0] == span[0] and res.t[-1] == span[1]
     assert len(res.t) == round((span[1] - span[0]) * 1e4) + 1
+
+
+def test_default_bound_never_returns_a_run_away_as_a_result():
+    """A rub scene that runs away (mu = 0.3, MODEL_NOTES) raises by default instead of returning metre amplitudes."""
+    system = rk.preset("al31f", friction_coefficient=0.3).compile()
+    with pytest.raises(rk.SimulationError, match="run-away at t = 2.1") as info:
+        rk.simulate(system, (0.0, 2.3))
+    assert np.abs(info.value.partial["y1"]).max() <= 0.0134
+    result = rk.simulate(system, (0.0, 2.3), bound=None)  # the caller accepts it explicitly
+    assert np.abs(result["y1"]).max() > 0.0134
