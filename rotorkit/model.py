@@ -49,6 +49,8 @@ class Model:
     """
 
     def __init__(self, elements, *, name="model"):
+        if isinstance(elements, (str, bytes, Element)) or not hasattr(elements, "__iter__"):
+            raise TopologyError(f"Model: elements = {elements!r}: expected a list of rotorkit elements")
         elements = tuple(elements)
         for e in elements:
             if not isinstance(e, Element):

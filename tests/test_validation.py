@@ -105,7 +105,7 @@ BAD_VALUES = {
         r"Disk at station 2: torsion='yes' must be True or False"),
     "negative station": (
         lambda: LumpedMass(station=-1, mass=1.0), ParameterError,
-        r"station -1 must be a non-negative int or an identifier"),
+        r"station = -1: expected a station \(a non-negative int or an identifier"),
     "unknown end condition": (
         lambda: ShaftSegment(start=1, end=2, length=0.3, youngs_modulus=2e11, area_moment=1e-7,
                              end_condition="pinned"),

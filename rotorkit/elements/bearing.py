@@ -1,8 +1,10 @@
 """Inter-rotor ball bearing with Hertzian contact and clearance."""
 
 import math
+import numbers
 from dataclasses import dataclass
 
+import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError
@@ -79,21 +81,26 @@ class BallBearing(Element):
 
     def unit_of(self, field_name):
         if field_name == "contact_stiffness":
-            n = self.exponent if isinstance(self.exponent, (int, float)) and not isinstance(self.exponent, bool) else 1.5
+            n = float(self.exponent) if isinstance(self.exponent, numbers.Real) and not isinstance(
+                self.exponent, (bool, np.bool_)) and math.isfinite(self.exponent) else 1.5
             return f"N/m**{n:g}"
         return Element.unit_of(self, field_name)
 
     def _validate(self):
         who = f"BallBearing {self.inner_station!r}-{self.outer_station!r}"
-        check_station(who, self.inner_station)
-        check_station(who, self.outer_station)
+        object.__setattr__(self, "inner_station", check_station(who, self.inner_station, "inner_station"))
+        object.__setattr__(self, "outer_station", check_station(who, self.outer_station, "outer_station"))
         for name in ("contact_stiffness", "inner_race_radius", "outer_race_radius"):
             if getattr(self, name) is None:
                 raise ParameterError(f"{who}: {name} is required")
-        if isinstance(self.n_balls, bool) or not isinstance(self.n_balls, int) or self.n_balls < 3:
+        if isinstance(self.n_balls, (bool, np.bool_)) or not isinstance(self.n_balls, numbers.Integral) \
+                or self.n_balls < 3:
             raise ParameterError(f"{who}: n_balls={self.n_balls!r} must be an int >= 3")
-        if isinstance(self.exponent, bool) or not isinstance(self.exponent, (int, float)) or not self.exponent >= 1:
-            raise ParameterError(f"{who}: exponent={self.exponent!r} must be a number >= 1 (1.5 for balls)")
+        object.__setattr__(self, "n_balls", int(self.n_balls))
+        if isinstance(self.exponent, (bool, np.bool_)) or not isinstance(self.exponent, numbers.Real) \
+                or not math.isfinite(self.exponent) or not self.exponent >= 1:
+            raise ParameterError(f"{who}: exponent={self.exponent!r} must be a finite number >= 1 (1.5 for balls)")
+        object.__setattr__(self, "exponent", float(self.exponent))
 
     def attached_stations(self):
         return (self.inner_station, self.outer_station)

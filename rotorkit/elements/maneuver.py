@@ -84,8 +84,12 @@ class Maneuver(Element):
         :func:`rotorkit.symbolic.functions.window`). List the times at which
         they jump in ``event_times`` so the integrator restarts there.
         """
-        return cls(kind="profile", gravity=None, accel_x=accel_x, accel_y=accel_y,
-                   event_times=tuple(float(e) for e in event_times))
+        from ..units import to_si
+
+        if isinstance(event_times, (str, bytes)) or not hasattr(event_times, "__iter__"):
+            raise ParameterError(f"Maneuver.profile: event_times = {event_times!r}: expected a sequence of times (s)")
+        times = tuple(to_si(e, "s", f"Maneuver.profile event_times[{i}]") for i, e in enumerate(event_times))
+        return cls(kind="profile", gravity=None, accel_x=accel_x, accel_y=accel_y, event_times=times)
 
     def _validate(self):
         kinds = ("steady", "barrel_roll", "profile")

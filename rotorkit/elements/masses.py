@@ -2,6 +2,7 @@
 
 from dataclasses import dataclass
 
+import numpy as np
 import sympy as sp
 
 from ..errors import ParameterError
@@ -65,15 +66,16 @@ class Disk(Element):
     _latex_names = {"mass": "m", "polar_inertia": "J", "radius": "R", "eccentricity": "e", "phase": r"\phi"}
 
     def _validate(self):
-        check_station("Disk", self.station)
+        object.__setattr__(self, "station", check_station("Disk", self.station, "station"))
         if self.mass is None:
             raise ParameterError(f"Disk at station {self.station!r}: mass is required (kg)")
         if self.polar_inertia is None and self.radius is None:
             raise ParameterError(
                 f"Disk at station {self.station!r}: give polar_inertia (kg m^2) or radius (m)"
             )
-        if not isinstance(self.torsion, bool):
+        if not isinstance(self.torsion, (bool, np.bool_)):
             raise ParameterError(f"Disk at station {self.station!r}: torsion={self.torsion!r} must be True or False")
+        object.__setattr__(self, "torsion", bool(self.torsion))
 
     def attached_stations(self):
         return (self.station,)
@@ -128,7 +130,7 @@ class LumpedMass(Element):
     _latex_names = {"mass": "m"}
 
     def _validate(self):
-        check_station("LumpedMass", self.station)
+        object.__setattr__(self, "station", check_station("LumpedMass", self.station, "station"))
         if self.mass is None:
             raise ParameterError(f"LumpedMass at station {self.station!r}: mass is required (kg)")
 

@@ -1,6 +1,9 @@
 """Rotor (spool): a set of stations spinning at one speed."""
 
+import numbers
 from dataclasses import dataclass
+
+import numpy as np
 
 from ..errors import ParameterError
 from .base import Element, Terms
@@ -8,15 +11,13 @@ from .base import Element, Terms
 __all__ = ["Rotor", "check_station"]
 
 
-def check_station(owner, station):
-    """Raise unless ``station`` is a valid station label (int >= 0 or identifier)."""
-    ok = (isinstance(station, int) and not isinstance(station, bool) and station >= 0) or (
-        isinstance(station, str) and station.isidentifier()
-    )
-    if not ok:
-        raise ParameterError(
-            f"{owner}: station {station!r} must be a non-negative int or an identifier string"
-        )
+def check_station(owner, station, field="station"):
+    """Return ``station`` as a valid label (int >= 0 or identifier), or raise naming ``field``."""
+    if isinstance(station, numbers.Integral) and not isinstance(station, (bool, np.bool_)) and station >= 0:
+        return int(station)
+    if isinstance(station, str) and station.isidentifier():
+        return station
+    raise ParameterError(f"{owner}: {field} = {station!r}: expected a station (a non-negative int or an identifier string)")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -59,10 +60,15 @@ class Rotor(Element):
     _latex_names = {"speed": r"\Omega", "speed_ratio": r"\gamma"}
 
     def __post_init__(self):
-        if isinstance(self.stations, (str, int)):
+        if isinstance(self.stations, (str, numbers.Integral)):
             object.__setattr__(self, "stations", (self.stations,))
-        else:
+        elif isinstance(self.stations, (tuple, list, range)):
             object.__setattr__(self, "stations", tuple(self.stations))
+        else:
+            raise ParameterError(f"Rotor {self.name!r}: stations = {self.stations!r}: expected a tuple of stations, "
+                                 "e.g. (1, 2, 3)")
+        object.__setattr__(self, "stations", tuple(check_station(f"Rotor {self.name!r}", st, "stations")
+                                                   for st in self.stations))
         Element.__post_init__(self)
 
     def _validate(self):
@@ -70,8 +76,6 @@ class Rotor(Element):
             raise ParameterError("Rotor.name is required, e.g. Rotor(name='LP', ...)")
         if not self.stations:
             raise ParameterError(f"Rotor {self.name!r}: stations is empty; give at least one station")
-        for s in self.stations:
-            check_station(f"Rotor {self.name!r}", s)
         if len(set(self.stations)) != len(self.stations):
             raise ParameterError(f"Rotor {self.name!r}: stations={self.stations!r} lists a station twice")
         if (self.speed is None) == (self.speed_ratio is None):
@@ -82,6 +86,8 @@ class Rotor(Element):
             raise ParameterError(
                 f"Rotor {self.name!r}: speed_ratio={self.speed_ratio} needs reference=<name of another rotor>"
             )
+        if self.reference is not None and not isinstance(self.reference, str):
+            raise ParameterError(f"Rotor {self.name!r}: reference = {self.reference!r}: expected a rotor name (str)")
         if self.speed is not None and self.reference is not None:
             raise ParameterError(f"Rotor {self.name!r}: reference is only used with speed_ratio")
 

@@ -60,7 +60,7 @@ class RubStator(Element):
     }
 
     def _validate(self):
-        check_station("RubStator", self.station)
+        object.__setattr__(self, "station", check_station("RubStator", self.station, "station"))
         for name in ("clearance", "contact_stiffness"):
             if getattr(self, name) is None:
                 raise ParameterError(f"RubStator at station {self.station!r}: {name} is required")

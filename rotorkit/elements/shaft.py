@@ -101,8 +101,8 @@ class ShaftSegment(Element):
 
     def _validate(self):
         who = f"ShaftSegment {self.start!r}-{self.end!r}"
-        check_station(who, self.start)
-        check_station(who, self.end)
+        object.__setattr__(self, "start", check_station(who, self.start, "start"))
+        object.__setattr__(self, "end", check_station(who, self.end, "end"))
         if self.start == self.end:
             raise ParameterError(f"{who}: start and end are the same station; give two stations")
         material = (self.youngs_modulus, self.area_moment)
@@ -114,7 +114,8 @@ class ShaftSegment(Element):
                     f"{who}: bending stiffness from material needs youngs_modulus, area_moment, "
                     f"length and end_condition (one of {sorted(END_CONDITIONS)})"
                 )
-        if self.end_condition is not None and self.end_condition not in END_CONDITIONS:
+        if self.end_condition is not None and (not isinstance(self.end_condition, str)
+                                               or self.end_condition not in END_CONDITIONS):
             raise ParameterError(
                 f"{who}: end_condition={self.end_condition!r} is unknown; expected one of {sorted(END_CONDITIONS)}"
             )

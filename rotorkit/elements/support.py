@@ -37,7 +37,7 @@ class ElasticSupport(Element):
     _latex_names = {"stiffness": "k", "damping": "c"}
 
     def _validate(self):
-        check_station("ElasticSupport", self.station)
+        object.__setattr__(self, "station", check_station("ElasticSupport", self.station, "station"))
         if self.stiffness is None:
             raise ParameterError(f"ElasticSupport at station {self.station!r}: stiffness is required (N/m)")
 
