@@ -192,15 +192,23 @@ def _skip(run, claim):
     return ClaimResult(claim, "could not run", f"{run.status}: {run.detail}")
 
 
+def _read(study, claim, speed=None, **overrides):
+    """(orders, bending spectrum, torsion spectrum) of a run, or the ClaimResult saying why it was not read."""
+    run = study.run(**overrides)
+    if run.status != "ok":
+        return _skip(run, claim)
+    orders = _orders(speed if speed is not None else DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
+    return orders, run.spectra["bending"], run.spectra["torsion"]
+
+
 def claim_no_rub(study):
     from rotorkit.validation import ClaimResult
 
     claim = "Without rub, bending holds omega_low and omega_high; torsion holds omega_high - omega_low"
-    run = study.run(rub=False)
-    if run.status != "ok":
-        return _skip(run, claim)
-    o = _orders(DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
-    b, t = run.spectra["bending"], run.spectra["torsion"]
+    read = _read(study, claim, rub=False)
+    if isinstance(read, ClaimResult):
+        return read
+    o, b, t = read
     hits = [study.shows(b, o["low"]), study.shows(b, o["high"]), study.shows(t, o["high - low"])]
     return ClaimResult(claim, _verdict(sum(hits), 3),
                        f"bending: {_list(study, b, o, ['low', 'high'])}; torsion: high - low "
@@ -211,11 +219,10 @@ def claim_kr_2e6(study):
     from rotorkit.validation import ClaimResult
 
     claim = "k_r = 2e6 N/m: bending shows no 1/2 omega_low, torsion shows omega_low"
-    run = study.run(rub_stiffness=2e6)
-    if run.status != "ok":
-        return _skip(run, claim)
-    o = _orders(DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
-    b, t = run.spectra["bending"], run.spectra["torsion"]
+    read = _read(study, claim, rub_stiffness=2e6)
+    if isinstance(read, ClaimResult):
+        return read
+    o, b, t = read
     hits = [not study.shows(b, o["1/2 low"]), study.shows(t, o["low"])]
     return ClaimResult(claim, _verdict(sum(hits), 2),
                        f"bending 1/2 low {study.describe(b, o['1/2 low'])}; torsion low {study.describe(t, o['low'])}")
@@ -225,11 +232,10 @@ def claim_kr_8e6_bending(study):
     from rotorkit.validation import ClaimResult
 
     claim = "k_r = 8e6 N/m: bending shows 1/2 omega_low and omega_b"
-    run = study.run(rub_stiffness=8e6)
-    if run.status != "ok":
-        return _skip(run, claim)
-    o = _orders(DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
-    b = run.spectra["bending"]
+    read = _read(study, claim, rub_stiffness=8e6)
+    if isinstance(read, ClaimResult):
+        return read
+    o, b, t = read
     lo, hi = _omega_b(study)
     hits = [study.shows(b, o["1/2 low"]), _shows_b(study, b)]
     return ClaimResult(claim, _verdict(sum(hits), 2),
@@ -241,11 +247,10 @@ def claim_kr_8e6_torsion(study):
     from rotorkit.validation import ClaimResult
 
     claim = "k_r = 8e6 N/m: torsion shows 1/2, 5/4, 3/2 omega_low plus omega_low and omega_high"
-    run = study.run(rub_stiffness=8e6)
-    if run.status != "ok":
-        return _skip(run, claim)
-    o = _orders(DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
-    t = run.spectra["torsion"]
+    read = _read(study, claim, rub_stiffness=8e6)
+    if isinstance(read, ClaimResult):
+        return read
+    o, b, t = read
     names = ["1/2 low", "5/4 low", "3/2 low", "low", "high"]
     hits = [study.shows(t, o[n]) for n in names]
     missing = [n for n, h in zip(names, hits) if not h]
@@ -257,11 +262,10 @@ def claim_kr_14e6(study):
     from rotorkit.validation import ClaimResult
 
     claim = "k_r = 1.4e7 N/m: omega_b is gone from bending, 1/2 omega_low remains"
-    run = study.run(rub_stiffness=1.4e7)
-    if run.status != "ok":
-        return _skip(run, claim)
-    o = _orders(DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
-    b = run.spectra["bending"]
+    read = _read(study, claim, rub_stiffness=1.4e7)
+    if isinstance(read, ClaimResult):
+        return read
+    o, b, t = read
     hits = [not _shows_b(study, b), study.shows(b, o["1/2 low"])]
     return ClaimResult(claim, _verdict(sum(hits), 2),
                        f"omega_b {'shows' if not hits[0] else 'absent'}; 1/2 low {study.describe(b, o['1/2 low'])}")
@@ -359,11 +363,10 @@ def claim_speed_1800(study):
     from rotorkit.validation import ClaimResult
 
     claim = "omega_low = 1800 rad/s (Fig. 16): bending shows no fault frequency (1/2 omega_low), torsion shows omega_low"
-    run = study.run(lp_speed=1800.0)
-    if run.status != "ok":
-        return _skip(run, claim)
-    o = _orders(1800.0, DEFAULTS["speed_ratio"])
-    b, t = run.spectra["bending"], run.spectra["torsion"]
+    read = _read(study, claim, speed=1800.0, lp_speed=1800.0)
+    if isinstance(read, ClaimResult):
+        return read
+    o, b, t = read
     hits = [not study.shows(b, o["1/2 low"]), study.shows(t, o["low"])]
     return ClaimResult(claim, _verdict(sum(hits), 2),
                        f"bending 1/2 low {study.describe(b, o['1/2 low'])}; torsion low {study.describe(t, o['low'])}")
