@@ -33,6 +33,7 @@ from rotorkit.elements import (
     ShaftSegment,
 )
 from rotorkit.model import Model
+from rotorkit.validation import ClaimResult
 
 DESCRIPTION = "AL-31F-like rub-impact dual rotor in a barrel roll (16 DOF, Table 1 of the paper)"
 
@@ -187,8 +188,6 @@ def _verdict(hits, total):
 
 
 def _skip(run, claim):
-    from rotorkit.validation import ClaimResult
-
     return ClaimResult(claim, "could not run", f"{run.status}: {run.detail}")
 
 
@@ -202,8 +201,6 @@ def _read(study, claim, speed=None, **overrides):
 
 
 def claim_no_rub(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "Without rub, bending holds omega_low and omega_high; torsion holds omega_high - omega_low"
     read = _read(study, claim, rub=False)
     if isinstance(read, ClaimResult):
@@ -216,8 +213,6 @@ def claim_no_rub(study):
 
 
 def claim_kr_2e6(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "k_r = 2e6 N/m: bending shows no 1/2 omega_low, torsion shows omega_low"
     read = _read(study, claim, rub_stiffness=2e6)
     if isinstance(read, ClaimResult):
@@ -229,8 +224,6 @@ def claim_kr_2e6(study):
 
 
 def claim_kr_8e6_bending(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "k_r = 8e6 N/m: bending shows 1/2 omega_low and omega_b"
     read = _read(study, claim, rub_stiffness=8e6)
     if isinstance(read, ClaimResult):
@@ -244,8 +237,6 @@ def claim_kr_8e6_bending(study):
 
 
 def claim_kr_8e6_torsion(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "k_r = 8e6 N/m: torsion shows 1/2, 5/4, 3/2 omega_low plus omega_low and omega_high"
     read = _read(study, claim, rub_stiffness=8e6)
     if isinstance(read, ClaimResult):
@@ -259,8 +250,6 @@ def claim_kr_8e6_torsion(study):
 
 
 def claim_kr_14e6(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "k_r = 1.4e7 N/m: omega_b is gone from bending, 1/2 omega_low remains"
     read = _read(study, claim, rub_stiffness=1.4e7)
     if isinstance(read, ClaimResult):
@@ -275,8 +264,6 @@ KR_SWEEP = tuple(np.linspace(5e5, 2e7, 40))
 
 
 def claim_kr_bifurcations(study):
-    from rotorkit.validation import ClaimResult
-
     claim = ("k_r cascade 5e5-2e7 N/m: bending gains 1/2 omega_low and omega_b above ~5.5e6 N/m; "
              "omega_b disappears above ~1.15e7 N/m")
     o = _orders(DEFAULTS["lp_speed"], DEFAULTS["speed_ratio"])
@@ -306,8 +293,6 @@ MU_SWEEP = (0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3)
 
 
 def claim_friction(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "The friction coefficient (0-0.3) changes torsion far more than bending"
     spectra, bad = [], []
     for mu in MU_SWEEP:
@@ -334,8 +319,6 @@ SPEED_SWEEP = tuple(range(500, 3001, 125))
 
 
 def claim_speed_region(study):
-    from rotorkit.validation import ClaimResult
-
     claim = ("LP speed 500-3000 rad/s: bending shows fault frequencies (1/2 omega_low) only in the intermediate "
              "region 1140-1740 rad/s; torsion shows rub features (omega_low) at every speed")
     showing, torsion_all, bad = [], True, []
@@ -360,8 +343,6 @@ def claim_speed_region(study):
 
 
 def claim_speed_1800(study):
-    from rotorkit.validation import ClaimResult
-
     claim = "omega_low = 1800 rad/s (Fig. 16): bending shows no fault frequency (1/2 omega_low), torsion shows omega_low"
     read = _read(study, claim, speed=1800.0, lp_speed=1800.0)
     if isinstance(read, ClaimResult):

@@ -50,15 +50,6 @@ class AccuracyRun:
     message: str = ""
 
 
-def _signal(result, name, highpass_hz=None):
-    x = result[name]
-    if highpass_hz:
-        from .analysis.signals import highpass
-
-        x = highpass(result.t, x, highpass_hz)
-    return x
-
-
 def errors(result, reference, signals, window, highpass_hz=5.0):
     """Pointwise and spectral relative errors of ``result`` against ``reference``.
 
@@ -67,16 +58,14 @@ def errors(result, reference, signals, window, highpass_hz=5.0):
     (dict, dict)
         Signal name -> pointwise error, signal name -> spectral error.
     """
-    from .analysis.signals import amplitude_spectrum
-
     if result.t.shape != reference.t.shape or np.abs(result.t - reference.t).max() > 1e-12:
         raise ParameterError("result and reference must have the same sample times")
     pointwise, spectral = {}, {}
     for name in signals:
         s, r = result[name], reference[name]
         pointwise[name] = float(np.abs(s - r).max() / np.abs(r).max())
-        spec = amplitude_spectrum(result.t, _signal(result, name, highpass_hz), window=window).amplitude
-        spec_ref = amplitude_spectrum(reference.t, _signal(reference, name, highpass_hz), window=window).amplitude
+        spec = result.spectrum(name, window, highpass_hz or None).amplitude
+        spec_ref = reference.spectrum(name, window, highpass_hz or None).amplitude
         spectral[name] = float(np.abs(spec - spec_ref).max() / spec_ref.max())
     return pointwise, spectral
 

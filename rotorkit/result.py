@@ -73,6 +73,16 @@ class Result:
         return Result(t=self.t[keep].copy(), y=self.y[:, keep].copy(), state_names=self.state_names,
                       parameters=self.parameters, stats=self.stats, name=self.name)
 
+    def spectrum(self, name, window=None, highpass=None, units="rad/s"):
+        """Amplitude spectrum of a signal over ``window`` (s), after an optional zero-phase high-pass (Hz).
+
+        See :func:`rotorkit.analysis.signals.amplitude_spectrum`; returns a ``Spectrum``.
+        """
+        from .analysis.signals import amplitude_spectrum, highpass as high_pass
+
+        x = self[name] if highpass is None else high_pass(self.t, self[name], highpass)
+        return amplitude_spectrum(self.t, x, window=window, units=units)
+
     # -- plots (thin: see rotorkit.plotting) --------------------------------
     def plot_orbit(self, station, ax=None, **kwargs):
         """Axis orbit ``y<station>`` against ``x<station>``; returns the matplotlib Axes."""

@@ -81,11 +81,16 @@ def _print_progress(fraction, t):
         sys.stderr.write("\n")
 
 
+def _bending_rows(system):
+    """Rows of the bending displacements (x, y; not the torsion angles) in a state vector."""
+    return [i for i, name in enumerate(system.coordinate_names) if not name.startswith("alpha")]
+
+
 def _escaped(system, samples, bound):
     """A run-away message if a bending displacement in ``samples`` exceeds ``bound`` (m), else ''."""
     if bound is None or samples.size == 0:
         return ""
-    rows = [i for i, name in enumerate(system.coordinate_names) if not name.startswith("alpha")]
+    rows = _bending_rows(system)
     values = np.abs(samples[rows])
     if not (values > bound).any():
         return ""
@@ -368,7 +373,7 @@ def _auto_bound(system):
 
 def _raise_if_ran_away(system, result, bound):
     """A run that passed the bound comes back as an error, with the samples before it."""
-    rows = [i for i, name in enumerate(system.coordinate_names) if not name.startswith("alpha")]
+    rows = _bending_rows(system)
     over = np.abs(result.y[rows]) > bound
     if not over.any():
         return

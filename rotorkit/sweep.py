@@ -449,7 +449,6 @@ def _run_point(task, build=None):
     ``task`` is plain data (see :func:`run_sweep`); ``build`` the build
     function when running in the calling process.
     """
-    from .analysis.signals import amplitude_spectrum, highpass
 
     wall = _time.perf_counter()
     build = _resolve_target(task["target"], build)
@@ -484,10 +483,7 @@ def _run_point(task, build=None):
     if status == "ok":
         rows = []
         for name in task["signals"]:
-            x = result[name]
-            if task["highpass_hz"] is not None:
-                x = highpass(result.t, x, task["highpass_hz"])
-            spectrum = amplitude_spectrum(result.t, x, window=tuple(task["window"]), units="rad/s")
+            spectrum = result.spectrum(name, tuple(task["window"]), task["highpass_hz"])
             frequency = spectrum.frequency
             rows.append(spectrum.amplitude)
             spectrum_info = {"taper": spectrum.taper, "n_samples": spectrum.n_samples, "n_fft": spectrum.n_fft}

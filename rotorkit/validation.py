@@ -82,7 +82,6 @@ class Study:
 
     def run(self, **overrides):
         """Spectra of every signal for ``overrides`` (a cached :class:`_Run`)."""
-        from .analysis.signals import amplitude_spectrum, highpass
         from .simulate import simulate
 
         key = tuple(sorted(overrides.items()))
@@ -98,8 +97,7 @@ class Study:
             run.detail = first.split(": ", 1)[-1]
         else:
             for role, name in self.signals.items():
-                x = highpass(result.t, result[name], self.highpass_hz)
-                run.spectra[role] = amplitude_spectrum(result.t, x, window=self.window)
+                run.spectra[role] = result.spectrum(name, self.window, self.highpass_hz)
         self._runs[key] = run
         self.runs_done += 1
         if self.progress is not None:

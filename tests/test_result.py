@@ -39,3 +39,14 @@ def test_plot_methods_return_axes(result):
     assert ax.get_xlabel() == "x2 (µm)"
     ax = result.plot_signals(["x2", "alpha2-alpha5"], scale=1e6)
     assert len(ax.lines) == 2
+
+
+def test_spectrum_of_a_signal_after_highpass():
+    t = np.arange(0.0, 4.0, 1e-4)
+    x = 0.5 * np.sin(1500.0 * t) + 3.0 * t  # a tone on a slow drift
+    res = rk.Result(t=t, y=np.vstack([x]), state_names=("x2",))
+    spec = res.spectrum("x2", window=(2.2, 3.8), highpass=5.0)
+    peak = np.argmax(spec.amplitude)
+    assert abs(spec.frequency[peak] - 1500.0) < 2 * (spec.frequency[1] - spec.frequency[0])
+    assert spec.amplitude[peak] == pytest.approx(0.5, rel=0.05)
+    assert spec.amplitude[spec.frequency < 100].max() < 0.01  # the drift is gone

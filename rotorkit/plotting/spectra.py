@@ -134,6 +134,14 @@ def _axes_2d(ax, figsize=(7.0, 4.5)):
     return new_axes(ax, figsize=figsize)
 
 
+def _time_frequency_view(tf, orders, fmax, scale):
+    """(time, frequency, scaled amplitude, units, checked orders) of ``tf`` up to ``fmax``."""
+    time, frequency, amplitude, units = _time_frequency(tf)
+    orders = _check_orders(orders, units)
+    keep = _frequency_mask(frequency, fmax, units)
+    return time, frequency[keep], amplitude[keep] * _check_scale(scale), units, orders
+
+
 def _time_frequency(tf):
     try:
         time = np.asarray(tf.time, dtype=float)
@@ -212,11 +220,7 @@ def plot_waterfall(tf, ax=None, *, orders=None, fmax=None, scale=1.0, amplitude_
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     ax = _axes_3d(ax)
-    time, frequency, amplitude, units = _time_frequency(tf)
-    orders = _check_orders(orders, units)
-    scale = _check_scale(scale)
-    keep = _frequency_mask(frequency, fmax, units)
-    f, a = frequency[keep], amplitude[keep] * scale
+    time, f, a, units, orders = _time_frequency_view(tf, orders, fmax, scale)
     segments = [np.column_stack([f, np.full(f.size, t), a[:, j]]) for j, t in enumerate(time)]
     ax.add_collection3d(Line3DCollection(segments, colors=color, linewidths=linewidth), autolim=False)
     t0, t1 = _limits(time[0], time[-1])
@@ -270,11 +274,7 @@ def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0
     from matplotlib.colors import LogNorm
 
     ax = _axes_2d(ax)
-    time, frequency, amplitude, units = _time_frequency(tf)
-    orders = _check_orders(orders, units)
-    scale = _check_scale(scale)
-    keep = _frequency_mask(frequency, fmax, units)
-    f, a = frequency[keep], amplitude[keep] * scale
+    time, f, a, units, orders = _time_frequency_view(tf, orders, fmax, scale)
     top = float(np.max(a)) if a.size else 0.0
     norm = None
     if log and top > 0:
