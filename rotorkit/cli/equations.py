@@ -1,0 +1,20 @@
+"""``rotorkit equations``: print the derived equations of a scene."""
+
+from .common import add_scene_arguments, load_preset
+
+
+def register(sub):
+    eq = sub.add_parser("equations", help="print the derived equations of a preset")
+    add_scene_arguments(eq)
+    eq.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
+    eq.set_defaults(func=main)
+
+
+def main(args):
+    _, model, _ = load_preset(args)
+    eom = model.equations()
+    if args.latex:
+        print(eom.latex())
+    else:
+        print(f"{model!r}\n\n{model.parameter_table()}\n\n{eom}")
+    return 0

@@ -1,0 +1,78 @@
+"""``rotorkit run``: simulate a scene and write plots and signals."""
+
+import json
+import time
+from pathlib import Path
+
+from ..errors import SimulationError
+from .common import add_scene_arguments, load_preset, progress_printer, save_figure
+
+
+def register(sub):
+    run = sub.add_parser("run", help="simulate a preset and write plots and signals")
+    add_scene_arguments(run)
+    run.add_argument("--out", help="output folder (default rotorkit-out/<preset>)")
+    run.add_argument("--t-end", type=float, help="end time in s (default: the preset's, 6 s for al31f)")
+    run.add_argument("--method", default="DOP853", help="solve_ivp method (default DOP853)")
+    run.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance (default 1e-6)")
+    run.add_argument("--atol", type=float, default=1e-9, help="absolute tolerance in SI units (default 1e-9)")
+    run.add_argument("--sample-rate", type=float, default=10_000.0, help="output samples per second (default 10000)")
+    run.add_argument("--backend", default="auto", choices=("auto", "python", "numba"),
+                     help="code back end (auto: numba when installed)")
+    run.add_argument("--engine", default="auto", choices=("auto", "compiled", "scipy"),
+                     help="integration engine (auto: compiled when numba is available)")
+    run.set_defaults(func=main)
+
+
+def main(args):
+    from ..simulate import simulate
+
+    start = time.perf_counter()
+    module, model, _ = load_preset(args)
+    outputs = getattr(module, "OUTPUTS", {})
+    t_end = args.t_end if args.t_end is not None else outputs.get("t_end", 1.0)
+    system = model.compile(backend=args.backend)
+    compiled = time.perf_counter()
+    print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
+    try:
+        result = simulate(system, (0.0, t_end), method=args.method, rtol=args.rtol, atol=args.atol,
+                          sample_rate=args.sample_rate, engine=args.engine, progress=progress_printer())
+    except SimulationError as err:
+        if err.partial is not None and err.partial.t.size:
+            import sys
+
+            out = Path(args.out or f"rotorkit-out/{args.preset}")
+            path = err.partial.save(out / "signals-partial.npz")
+            print(f"partial result written to {path}", file=sys.stderr)
+        raise
+    stats = result.stats
+    print(f"simulated 0-{t_end:g} s in {stats['wall_time']:.2f} s: {stats['nfev']} RHS evaluations, "
+          f"{stats['engine']} engine, method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
+    out = Path(args.out or f"rotorkit-out/{args.preset}")
+    for p in write_outputs(result, outputs, out):
+        print(f"wrote {p}")
+    return 0
+
+
+def write_outputs(result, outputs, out):
+    """Write a run's signals, its preset's standard figures and a summary into ``out``."""
+    from ..files import atomic_write_text
+    from ..plotting.basic import plot_orbit, plot_signals
+
+    out.mkdir(parents=True, exist_ok=True)
+    written = [result.save(out / "signals.npz")]
+    station = outputs.get("orbit_station")
+    clearance = result.parameters.get(outputs.get("clearance_parameter", ""), None)
+    if station is not None:
+        ax = plot_orbit(result, station, clearance=clearance)
+        written.append(save_figure(ax.figure, out / f"orbit_station{station}.png"))
+    for key, scale, unit in (("bending", 1e6, "µm"), ("torsion", 1e6, "µrad")):
+        name = outputs.get(key)
+        if name:
+            ax = plot_signals(result, name, scale=scale, unit_label=unit)
+            written.append(save_figure(ax.figure, out / f"{name.replace('-', '_minus_')}.png"))
+    summary = {"name": result.name, "stats": {k: v for k, v in result.stats.items()},
+               "parameters": result.parameters}
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
+    written.append(out / "summary.json")
+    return written
