@@ -1,9 +1,23 @@
+import os
 import sys
 from pathlib import Path
 
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # tests/helpers.py
+
+
+@pytest.fixture(scope="session", autouse=True)
+def temporary_model_cache(tmp_path_factory):
+    """Every test (and every command it starts) uses a temporary model cache, never ~/.cache/rotorkit."""
+    old = os.environ.get("ROTORKIT_CACHE_DIR")
+    folder = tmp_path_factory.mktemp("rotorkit-cache")
+    os.environ["ROTORKIT_CACHE_DIR"] = str(folder)
+    yield folder
+    if old is None:
+        os.environ.pop("ROTORKIT_CACHE_DIR", None)
+    else:
+        os.environ["ROTORKIT_CACHE_DIR"] = old
 
 
 @pytest.fixture(scope="session")

@@ -13,6 +13,11 @@ import sympy as sp
 __all__ = ["ramp", "step", "safe_div", "window", "hypot", "contact_ratio"]
 
 
+def _power(text, exp):
+    """``text`` raised to ``exp`` (sympy's LaTeX printer passes ``exp`` for powers of functions)."""
+    return text if exp is None else r"\left(%s\right)^{%s}" % (text, exp)
+
+
 class ramp(sp.Function):
     """``max(x, 0)``: contact penetration. ``ramp(x)**1.5`` is never complex."""
 
@@ -31,8 +36,8 @@ class ramp(sp.Function):
     def fdiff(self, argindex=1):
         return step(self.args[0])
 
-    def _latex(self, printer):
-        return r"\left\langle %s \right\rangle_{+}" % printer._print(self.args[0])
+    def _latex(self, printer, exp=None):
+        return _power(r"\left\langle %s \right\rangle_{+}" % printer._print(self.args[0]), exp)
 
 
 class step(sp.Function):
@@ -49,8 +54,8 @@ class step(sp.Function):
     def fdiff(self, argindex=1):
         return sp.S.Zero  # the Dirac part is dropped: used for Jacobians of ramps
 
-    def _latex(self, printer):
-        return r"H\left(%s\right)" % printer._print(self.args[0])
+    def _latex(self, printer, exp=None):
+        return _power(r"H\left(%s\right)" % printer._print(self.args[0]), exp)
 
 
 class safe_div(sp.Function):
@@ -76,9 +81,9 @@ class safe_div(sp.Function):
             return safe_div(sp.S.One, b)
         return -safe_div(a, b**2)
 
-    def _latex(self, printer):
+    def _latex(self, printer, exp=None):
         a, b = self.args
-        return r"\frac{%s}{%s}" % (printer._print(a), printer._print(b))
+        return _power(r"\frac{%s}{%s}" % (printer._print(a), printer._print(b)), exp)
 
 
 class window(sp.Function):
@@ -98,9 +103,9 @@ class window(sp.Function):
     def fdiff(self, argindex=1):
         return sp.S.Zero
 
-    def _latex(self, printer):
+    def _latex(self, printer, exp=None):
         t, start, end = (printer._print(a) for a in self.args)
-        return r"\mathbb{1}_{[%s,\,%s)}\left(%s\right)" % (start, end, t)
+        return _power(r"\mathbb{1}_{[%s,\,%s)}\left(%s\right)" % (start, end, t), exp)
 
 
 class hypot(sp.Function):
@@ -119,9 +124,9 @@ class hypot(sp.Function):
     def fdiff(self, argindex=1):
         return safe_div(self.args[argindex - 1], self)
 
-    def _latex(self, printer):
+    def _latex(self, printer, exp=None):
         x, y = (printer._print(a) for a in self.args)
-        return r"\sqrt{%s^{2} + %s^{2}}" % (x, y)
+        return _power(r"\sqrt{%s^{2} + %s^{2}}" % (x, y), exp)
 
 
 class contact_ratio(sp.Function):
@@ -140,6 +145,6 @@ class contact_ratio(sp.Function):
             return step(r - delta) * safe_div(delta, r**2)
         return -step(r - delta) * safe_div(sp.S.One, r)
 
-    def _latex(self, printer):
+    def _latex(self, printer, exp=None):
         r, delta = (printer._print(a) for a in self.args)
-        return r"\frac{\left\langle %s - %s \right\rangle_{+}}{%s}" % (r, delta, r)
+        return _power(r"\frac{\left\langle %s - %s \right\rangle_{+}}{%s}" % (r, delta, r), exp)
