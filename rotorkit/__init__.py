@@ -19,6 +19,7 @@ from .elements import (
 )
 from .errors import ParameterError, RotorkitError, SimulationError, TopologyError, UnitError
 from .model import Model
+from .modelfile import load_model
 from .presets import list_presets, preset
 from .result import Result, load_result
 from .simulate import simulate
@@ -36,6 +37,7 @@ __all__ = [
     "RubStator",
     "Maneuver",
     "Model",
+    "load_model",
     "System",
     "Result",
     "simulate",

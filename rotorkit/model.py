@@ -340,6 +340,12 @@ class Model:
 
         return derive(self)
 
+    def save(self, path, **options):
+        """Write the model to ``path`` as a TOML model file (see :mod:`rotorkit.modelfile`); returns the path."""
+        from .modelfile import save_model
+
+        return save_model(self, path, **options)
+
     def compile(self, backend="auto"):
         """Compile into a numeric :class:`~rotorkit.system.System` (see there)."""
         from .system import compile_model

@@ -15,7 +15,7 @@ from .common import parse_assignment
 __all__ = ["main", "build_parser", "parse_assignment", "COMMANDS"]
 
 #: command modules, in the order ``rotorkit --help`` lists them
-COMMANDS = ("run", "equations", "accuracy", "stiffness", "sweep", "validate", "cache", "listing")
+COMMANDS = ("run", "equations", "accuracy", "stiffness", "sweep", "validate", "export", "cache", "listing")
 
 
 def build_parser():

@@ -3,20 +3,20 @@
 from pathlib import Path
 
 from ..errors import ParameterError
-from .common import add_scene_arguments, load_preset, save_figure
+from .common import add_scene_arguments, load_preset, positive_float, save_figure
 
 
 def register(sub):
     acc = sub.add_parser("accuracy", help="work-precision study: methods, engines, tolerances vs a tight reference")
     add_scene_arguments(acc)
     acc.add_argument("--out", help="output folder (default rotorkit-out/<preset>-accuracy)")
-    acc.add_argument("--t-end", type=float, help="end time in s (default: the preset's)")
+    acc.add_argument("--t-end", type=positive_float, help="end time in s (default: the preset's)")
     acc.add_argument("--cases", help="engine:method list, e.g. compiled:DOP853,scipy:Radau,scipy+events:DOP853 "
                      "(default: all but events)")
     acc.add_argument("--tolerances", help="rtol list, e.g. 1e-4,1e-6,1e-8 (default 1e-3 ... 1e-10); atol = 1e-3 rtol")
-    acc.add_argument("--reference-rtol", type=float, default=1e-12, help="rtol of the reference run (default 1e-12)")
+    acc.add_argument("--reference-rtol", type=positive_float, default=1e-12, help="rtol of the reference run (default 1e-12)")
     acc.add_argument("--window", default="2.2,3.8", help="spectral window start,end in s")
-    acc.add_argument("--budget", type=float, default=60.0,
+    acc.add_argument("--budget", type=positive_float, default=60.0,
                      help="skip a method's tighter tolerances once one run takes longer than this (s)")
     acc.set_defaults(func=main)
 

@@ -5,7 +5,8 @@ import sys
 
 from ..errors import ParameterError
 
-__all__ = ["parse_assignment", "progress_printer", "save_figure", "load_preset", "add_scene_arguments"]
+__all__ = ["parse_assignment", "progress_printer", "save_figure", "load_preset", "load_scene", "add_scene_arguments",
+           "scene_module", "check_parameter_name", "positive_float", "positive_int", "FileScene"]
 
 _TRUE, _FALSE = {"true", "yes", "on", "1"}, {"false", "no", "off", "0"}
 #: a --set value: a plain decimal number, optionally followed by a unit expression (letters, /, *, ^, spaces)
@@ -89,18 +90,117 @@ def save_figure(fig, path):
 
 
 
+def positive_float(text):
+    """argparse type: a finite number > 0 (checked before any derivation or compilation)."""
+    import argparse
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected a finite number > 0")
+    return value
+
+
+def positive_int(text):
+    """argparse type: an integer >= 1."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected an integer >= 1")
+    return value
+
+
 def add_scene_arguments(parser):
-    """The scene a command works on: a preset name and ``--set`` overrides."""
-    parser.add_argument("preset", help="preset name, e.g. al31f (see 'rotorkit list')")
+    """The scene a command works on: a preset name or a model file, and ``--set`` overrides."""
+    parser.add_argument("preset", metavar="SCENE",
+                        help="preset name (e.g. al31f, see 'rotorkit list') or path to a model file (.toml)")
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                        help="override a preset parameter (SI number or quantity, e.g. rub_stiffness=2e6)")
+                        help="override a parameter (SI number or quantity, e.g. rub_stiffness=2e6 or "
+                             "'rub_stiffness=2e6 N/m'); a model file's parameters are named as in "
+                             "'rotorkit equations FILE' (e.g. support1_stiffness)")
+
+
+def is_model_file(scene):
+    """A scene argument names a model file (ends in .toml or is an existing file), not a preset."""
+    from pathlib import Path
+
+    text = str(scene)
+    return text.lower().endswith(".toml") or "/" in text or "\\" in text or Path(text).is_file()
+
+
+def check_parameter_name(name, known, scene, what="--set"):
+    """Raise the same "did you mean" for an unknown parameter name wherever one is given."""
+    if name not in known:
+        import difflib
+
+        near = difflib.get_close_matches(name, list(known), n=3)
+        hint = f"; did you mean {', '.join(near)}?" if near else f" (parameters: {', '.join(known)})"
+        raise ParameterError(f"{what} {name!r} is not a parameter of {scene}{hint}")
+
+
+class FileScene:
+    """A model file seen as a preset module: ``build``, ``DEFAULTS``, ``UNITS``, ``OUTPUTS``."""
+
+    SWITCHES = {}
+
+    def __init__(self, path):
+        from ..modelfile import read_model_file
+
+        self.path = path
+        self.model, run = read_model_file(path)
+        self.DESCRIPTION = f"model file {path}"
+        self.DEFAULTS = dict(self.model.parameters)
+        self.UNITS = dict(self.model.parameter_units)
+        self.OUTPUTS = dict(run)
+
+    def build(self, **overrides):
+        for name in overrides:
+            check_parameter_name(name, self.DEFAULTS, self.path)
+        return self.model.with_values(**overrides) if overrides else self.model
+
+
+def scene_module(args):
+    """The preset module, or a :class:`FileScene`, for ``args.preset``.
+
+    For a model file, ``args.preset`` becomes the file's stem (used in output
+    folder names) and ``args.scene_path`` keeps the path.
+    """
+    from pathlib import Path
+
+    from ..presets import list_presets, preset_module
+
+    scene = args.preset
+    if scene in list_presets() or not is_model_file(scene):
+        try:
+            return preset_module(scene)
+        except ParameterError as err:
+            raise ParameterError(f"{err}; or give the path of a model file (.toml)") from None
+    path = Path(scene)
+    module = FileScene(path)
+    args.scene_path, args.preset = path, path.stem
+    return module
 
 
 def load_preset(args):
-    """(preset module, model, overrides) for ``args.preset`` with ``args.set`` applied."""
-    from ..presets import preset_module
-
-    module = preset_module(args.preset)
+    """(preset module or :class:`FileScene`, model, overrides) for ``args.preset`` with ``args.set`` applied."""
+    module = scene_module(args)
     known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
-    overrides = dict(parse_assignment(s, known) for s in args.set)
+    overrides = {}
+    for text in args.set:
+        name, value = parse_assignment(text, known)
+        check_parameter_name(name, known, args.preset)
+        if name in overrides:
+            raise ParameterError(f"--set {name} is given twice; give each parameter once")
+        overrides[name] = value
     return module, module.build(**overrides), overrides
+
+
+#: the same function under the name that says what it does
+load_scene = load_preset

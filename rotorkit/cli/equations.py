@@ -4,7 +4,7 @@ from .common import add_scene_arguments, load_preset
 
 
 def register(sub):
-    eq = sub.add_parser("equations", help="print the derived equations of a preset")
+    eq = sub.add_parser("equations", help="print the derived equations of a preset or model file")
     add_scene_arguments(eq)
     eq.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
     eq.set_defaults(func=main)

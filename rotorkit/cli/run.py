@@ -5,18 +5,18 @@ import time
 from pathlib import Path
 
 from ..errors import SimulationError
-from .common import add_scene_arguments, load_preset, progress_printer, save_figure
+from .common import add_scene_arguments, load_preset, positive_float, progress_printer, save_figure
 
 
 def register(sub):
-    run = sub.add_parser("run", help="simulate a preset and write plots and signals")
+    run = sub.add_parser("run", help="simulate a preset or model file and write plots and signals")
     add_scene_arguments(run)
     run.add_argument("--out", help="output folder (default rotorkit-out/<preset>)")
-    run.add_argument("--t-end", type=float, help="end time in s (default: the preset's, 6 s for al31f)")
+    run.add_argument("--t-end", type=positive_float, help="end time in s (default: the preset's, 6 s for al31f)")
     run.add_argument("--method", default="DOP853", help="solve_ivp method (default DOP853)")
-    run.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance (default 1e-6)")
-    run.add_argument("--atol", type=float, default=1e-9, help="absolute tolerance in SI units (default 1e-9)")
-    run.add_argument("--sample-rate", type=float, default=10_000.0, help="output samples per second (default 10000)")
+    run.add_argument("--rtol", type=positive_float, default=1e-6, help="relative tolerance (default 1e-6)")
+    run.add_argument("--atol", type=positive_float, default=1e-9, help="absolute tolerance in SI units (default 1e-9)")
+    run.add_argument("--sample-rate", type=positive_float, default=10_000.0, help="output samples per second (default 10000)")
     run.add_argument("--backend", default="auto", choices=("auto", "python", "numba"),
                      help="code back end (auto: numba when installed)")
     run.add_argument("--engine", default="auto", choices=("auto", "compiled", "scipy"),

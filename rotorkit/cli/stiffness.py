@@ -1,12 +1,12 @@
 """``rotorkit stiffness``: time scales of a scene and the integration method that fits."""
 
-from .common import add_scene_arguments, load_preset
+from .common import add_scene_arguments, load_preset, positive_float
 
 
 def register(sub):
     st = sub.add_parser("stiffness", help="time scales of a scene and the integration method that fits")
     add_scene_arguments(st)
-    st.add_argument("--t-end", type=float, default=0.5, help="length of the trial run whose states are scanned (s)")
+    st.add_argument("--t-end", type=positive_float, default=0.5, help="length of the trial run whose states are scanned (s)")
     st.set_defaults(func=main)
 
 

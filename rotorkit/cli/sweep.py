@@ -3,8 +3,7 @@
 import sys
 from pathlib import Path
 
-from ..errors import ParameterError
-from .common import parse_assignment, save_figure
+from .common import check_parameter_name, parse_assignment, positive_float, positive_int, save_figure
 
 
 def register(sub):
@@ -16,8 +15,8 @@ def register(sub):
     sw.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="override a preset parameter for every point")
     sw.add_argument("--out", help="output folder (default rotorkit-out/<preset>-sweep-<param>)")
-    sw.add_argument("--workers", type=int, default=2, help="local processes (default 2)")
-    sw.add_argument("--fmax", type=float, default=5000.0, help="largest frequency drawn (rad/s)")
+    sw.add_argument("--workers", type=positive_int, default=2, help="local processes (default 2)")
+    sw.add_argument("--fmax", type=positive_float, default=5000.0, help="largest frequency drawn (rad/s)")
     sw.set_defaults(func=main)
 
 
@@ -30,13 +29,12 @@ def main(args):
     module = preset_module(args.preset)
     known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
     name, values = parse_range(args.param)
-    if name not in module.DEFAULTS:
-        import difflib
-
-        near = difflib.get_close_matches(name, list(module.DEFAULTS), n=3)
-        raise ParameterError(f"--param {name!r} is not a parameter of {args.preset}"
-                             + (f"; did you mean {', '.join(near)}?" if near else ""))
-    overrides = dict(parse_assignment(s, known) for s in args.set)
+    check_parameter_name(name, module.DEFAULTS, args.preset, what="--param")
+    overrides = {}
+    for text in args.set:
+        key, value = parse_assignment(text, known)
+        check_parameter_name(key, known, args.preset)
+        overrides[key] = value
     out = Path(args.out or f"rotorkit-out/{args.preset}-sweep-{name}")
 
     def progress(done, total, value, status):

@@ -1,0 +1,448 @@
+"""Model files: a whole model as TOML, with units written out.
+
+A model file is data only: it is read with :mod:`tomllib`, every element
+type is looked up in a registry of rotorkit's own element classes, and every
+string that stands for a quantity goes through the bounded quantity grammar
+of :func:`rotorkit.units.parse_quantity` (no ``eval``, no ``sympify``, no
+pint string evaluation). The format, version 1::
+
+    format = "rotorkit-model"
+    version = 1
+    name = "jeffcott"
+
+    [[element]]
+    type = "Rotor"
+    name = "R"
+    stations = [1]
+    speed = "3000 rpm"
+
+    [[element]]
+    type = "Disk"
+    station = 1
+    mass = "2 kg"
+    radius = "10 cm"
+    eccentricity = "10 um"
+
+    [run]                      # optional: what ``rotorkit run`` draws
+    t_end = 2.0
+    orbit_station = 1
+
+Rules, the same for every element type (no per-type code):
+
+- one ``[[element]]`` table per element; ``type`` is the class name
+  (``Rotor``, ``Disk``, ``ShaftSegment``, ...), the other keys are the
+  class's dataclass fields; a field left out takes its default;
+- a field with a unit (listed in the class's ``_units``) is a string
+  ``"<number> <unit>"`` in any unit of the right dimension (``"12000 rpm"``,
+  ``"0.25 m"``, ``"2e6 N/m"``) or a plain number in SI units; dimensionless
+  fields are plain numbers;
+- other fields are TOML values: numbers, strings, booleans, arrays (tuples,
+  tables of numbers as arrays of arrays);
+- a nested object (a material, a tabulated profile: any registered
+  dataclass) is an inline table with its own ``type`` key and fields,
+  following the same rules; a table without ``type`` is a plain mapping;
+- ``None`` is written by leaving the key out.
+
+:func:`save_model` writes SI values with ``repr`` precision, so
+``load_model(save_model(m))`` gives the same elements, parameter values and
+equations. Python functions (``Maneuver.profile(accel_x=...)``) cannot be
+written: use a tabulated element instead.
+"""
+
+import dataclasses
+import difflib
+import math
+import numbers
+import re
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ParameterError, RotorkitError, UnitError
+
+__all__ = ["FORMAT", "VERSION", "ModelFileError", "dumps_model", "save_model", "loads_model", "load_model",
+           "element_types", "register_type", "parse_quantity"]
+
+FORMAT = "rotorkit-model"
+VERSION = 1
+#: limits that make a hostile file fail fast
+MAX_BYTES = 8 * 2**20
+MAX_STRING = 10_000
+MAX_DEPTH = 8
+MAX_ITEMS = 100_000
+_TOP_KEYS = ("format", "version", "name", "description", "element", "run")
+#: keys of the optional [run] table (what ``rotorkit run`` simulates and draws)
+RUN_KEYS = ("t_end", "orbit_station", "clearance_parameter", "bending", "torsion")
+
+_REGISTERED = {}
+
+
+class ModelFileError(ParameterError):
+    """A model file is malformed: the message names file, element, field, value and what is expected."""
+
+
+# -- registry ----------------------------------------------------------------
+def register_type(cls):
+    """Allow a dataclass (e.g. your own :class:`~rotorkit.elements.Element` subclass) in model files."""
+    if not (isinstance(cls, type) and dataclasses.is_dataclass(cls)):
+        raise ParameterError(f"register_type({cls!r}): expected a dataclass type")
+    _REGISTERED[cls.__name__] = cls
+    return cls
+
+
+def _subclasses(cls):
+    for sub in cls.__subclasses__():
+        yield sub
+        yield from _subclasses(sub)
+
+
+def element_types():
+    """Type name -> class of everything a model file may hold.
+
+    These are the dataclasses exported by :mod:`rotorkit.elements` (elements,
+    and the values they hold such as materials and tables), every
+    :class:`~rotorkit.elements.Element` subclass defined in rotorkit, and
+    the types given to :func:`register_type`.
+    """
+    from . import elements
+    from .elements.base import Element, Terms
+
+    types = {}
+    for name in getattr(elements, "__all__", ()):
+        obj = getattr(elements, name, None)
+        if isinstance(obj, type) and dataclasses.is_dataclass(obj) and obj not in (Element, Terms):
+            types[obj.__name__] = obj
+    for cls in _subclasses(Element):
+        if cls.__module__.startswith("rotorkit.") and dataclasses.is_dataclass(cls):
+            types.setdefault(cls.__name__, cls)
+    types.update(_REGISTERED)
+    return types
+
+
+# -- quantities ----------------------------------------------------------------
+_NUMBER_UNIT = re.compile(r"^\s*([+-]?(?:inf|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?))\s*"
+                          r"((?![eE][+-]?\d)(?:1\s*/\s*)?[A-Za-zµ°Ω][A-Za-zµ°Ω0-9_ /*^.\-]*)?\s*$")
+
+
+def parse_quantity(text, name):
+    """``"<number> [unit]"`` -> float or pint quantity, through the library's bounded grammar.
+
+    Uses :func:`rotorkit.units.parse_quantity` where it exists; otherwise a
+    strict fallback of the same grammar (a decimal number with at most a
+    three-digit exponent, then a unit expression without numeric powers of
+    more than two digits).
+    """
+    from . import units
+
+    if hasattr(units, "parse_quantity"):
+        return units.parse_quantity(text, name)
+    if len(text) > 200:
+        raise UnitError(f"{name} = {text[:40]!r}...: too long for a quantity (at most 200 characters)")
+    match = _NUMBER_UNIT.match(text)
+    if not match or (match.group(2) and re.search(r"\d\s*\*\*|\*\*\s*\d{3,}|\^\s*\d{3,}", match.group(2))):
+        raise UnitError(f"{name} = {text!r}: expected a number, optionally followed by a unit (e.g. '0.25 m')")
+    value = float(match.group(1))
+    if not match.group(2):
+        return value
+    try:
+        return value * units.registry().Unit(match.group(2).strip())
+    except Exception as exc:
+        raise UnitError(f"{name} = {text!r}: {match.group(2).strip()!r} is not a unit pint knows") from exc
+
+
+# -- writing -----------------------------------------------------------------
+_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
+
+
+def _toml_string(text):
+    out = []
+    for ch in text:
+        if ch in _ESCAPES:
+            out.append(_ESCAPES[ch])
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F or 0xD800 <= ord(ch) <= 0xDFFF:
+            out.append(f"\\u{ord(ch):04x}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
+def _key(name):
+    return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else _toml_string(name)
+
+
+def _float(value):
+    if math.isnan(value):
+        return "nan"
+    if math.isinf(value):
+        return "inf" if value > 0 else "-inf"
+    text = repr(float(value))
+    return text if any(c in text for c in ".en") else text + ".0"
+
+
+def _encode(value, where):
+    """A Python value as a TOML value (inline)."""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return _float(float(value))
+    if isinstance(value, str):
+        return _toml_string(value)
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, (tuple, list, range)):
+        return "[" + ", ".join(_encode(v, f"{where}[{i}]") for i, v in enumerate(value)) + "]"
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return "{ " + ", ".join(f"{_key(k)} = {v}" for k, v in _object_items(value, where)) + " }"
+    if isinstance(value, dict) and all(isinstance(k, str) for k in value):
+        return "{ " + ", ".join(f"{_key(k)} = {_encode(v, f'{where}.{k}')}" for k, v in value.items()) + " }"
+    if callable(value):
+        raise ModelFileError(f"{where} is a Python function ({value!r}); a model file holds data only: "
+                             "use a tabulated element instead")
+    raise ModelFileError(f"{where} = {value!r}: a {type(value).__name__} cannot be written to a model file")
+
+
+def _quantity(value, unit, where):
+    """A field with a unit: ``"<SI value> <unit>"`` (a plain number if dimensionless), arrays item by item."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, (tuple, list)):
+        return "[" + ", ".join(_quantity(v, unit, f"{where}[{i}]") for i, v in enumerate(value)) + "]"
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ModelFileError(f"{where} = {value!r}: expected a number in {unit or 'dimensionless units'}")
+    text = _float(float(value))
+    return _toml_string(f"{text} {unit}") if unit else text
+
+
+def _object_items(obj, where):
+    """(key, TOML text) of a registered dataclass: ``type`` first, then its fields (None left out)."""
+    cls = type(obj)
+    if element_types().get(cls.__name__) is not cls:
+        raise ModelFileError(f"{where}: {cls.__module__}.{cls.__name__} is not a rotorkit element type; "
+                             "register it with rotorkit.modelfile.register_type to write it to a file")
+    items = [("type", _toml_string(cls.__name__))]
+    units = getattr(cls, "_units", {})
+    for f in dataclasses.fields(cls):
+        if not f.init:
+            continue
+        value = getattr(obj, f.name)
+        if value is None:
+            continue
+        if f.name in units:
+            unit = obj.unit_of(f.name) if hasattr(obj, "unit_of") else units[f.name][0]
+            items.append((f.name, _quantity(value, unit, f"{where}.{f.name}")))
+        else:
+            items.append((f.name, _encode(value, f"{where}.{f.name}")))
+    return items
+
+
+def dumps_model(model, *, run=None, description=None):
+    """The model file text of ``model`` (see the module docstring for the format).
+
+    Parameters
+    ----------
+    model : rotorkit.Model
+    run : dict, optional
+        The ``[run]`` table (keys :data:`RUN_KEYS`): what ``rotorkit run`` draws.
+    description : str, optional
+        One line written as the file's ``description``.
+    """
+    lines = ["# rotorkit model file: values with units are \"<number> <unit>\" strings in any unit of the",
+             "# right dimension (SI as written here); see docs/modelfiles.md",
+             f"format = {_toml_string(FORMAT)}", f"version = {VERSION}", f"name = {_toml_string(model.name)}"]
+    if description:
+        lines.append(f"description = {_toml_string(description)}")
+    for element in model.elements:
+        where = f"{type(element).__name__} {element.label()!r}"
+        lines += ["", "[[element]]"] + [f"{k} = {v}" for k, v in _object_items(element, where)]
+    if run:
+        unknown = set(run) - set(RUN_KEYS)
+        if unknown:
+            raise ModelFileError(f"run table: unknown keys {sorted(unknown)}; expected some of {RUN_KEYS}")
+        lines += ["", "[run]"] + [f"{k} = {_encode(v, f'run.{k}')}" for k, v in run.items() if v is not None]
+    return "\n".join(lines) + "\n"
+
+
+def save_model(model, path, *, run=None, description=None):
+    """Write ``model`` to ``path`` as a TOML model file (atomically); returns the path."""
+    from .files import atomic_write_text
+
+    path = Path(path)
+    atomic_write_text(path, dumps_model(model, run=run, description=description))
+    return path
+
+
+# -- reading -----------------------------------------------------------------
+class _Where:
+    def __init__(self, source):
+        self.source = source
+
+    def error(self, where, message):
+        return ModelFileError(f"{self.source}: {where}: {message}")
+
+
+def _check_shape(value, depth, counter, where, ctx):
+    """Refuse deep nesting, huge strings and huge arrays before building anything."""
+    if depth > MAX_DEPTH:
+        raise ctx.error(where, f"nested more than {MAX_DEPTH} levels deep; a model file is shallow data")
+    counter[0] += 1
+    if counter[0] > MAX_ITEMS:
+        raise ctx.error(where, f"more than {MAX_ITEMS} values; a model file is small data")
+    if isinstance(value, str) and len(value) > MAX_STRING:
+        raise ctx.error(where, f"a string of {len(value)} characters (at most {MAX_STRING})")
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _check_shape(v, depth + 1, counter, f"{where}.{k}", ctx)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            _check_shape(v, depth + 1, counter, f"{where}[{i}]", ctx)
+
+
+def _did_you_mean(name, options):
+    near = difflib.get_close_matches(str(name), list(options), n=3)
+    return f"did you mean {', '.join(near)}?" if near else f"expected one of: {', '.join(options)}"
+
+
+def _to_python(value):
+    """TOML arrays -> tuples (elements are immutable); tables stay dicts."""
+    if isinstance(value, list):
+        return tuple(_to_python(v) for v in value)
+    if isinstance(value, dict):
+        return {k: _to_python(v) for k, v in value.items()}
+    return value
+
+
+def _build(table, where, ctx, types):
+    """An instance of a registered type from its table (fields checked, units parsed)."""
+    type_name = table.get("type")
+    if not isinstance(type_name, str):
+        raise ctx.error(where, f"type = {type_name!r}: expected the name of an element type, e.g. \"Disk\" "
+                               f"(types: {', '.join(sorted(types))})")
+    cls = types.get(type_name)
+    if cls is None:
+        raise ctx.error(where, f"unknown type {type_name!r}; {_did_you_mean(type_name, sorted(types))}")
+    label = table.get("name") if isinstance(table.get("name"), str) else None
+    where = f"{where} ({type_name}{' ' + repr(label) if label else ''})"
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    units = getattr(cls, "_units", {})
+    kwargs = {}
+    for key, raw in table.items():
+        if key == "type":
+            continue
+        if key not in fields:
+            raise ctx.error(where, f"unknown field {key!r}; {_did_you_mean(key, list(fields))}")
+        kwargs[key] = _field_value(raw, f"{where} field {key!r}", key in units, ctx, types)
+    try:
+        return cls(**kwargs)
+    except RotorkitError as err:
+        fields_named = [k for k in kwargs if re.search(rf"\b{re.escape(k)}\b", str(err))]
+        if fields_named:  # show the value as the file wrote it
+            key = fields_named[0]
+            raise ctx.error(where, f"field {key!r} = {_to_python(table[key])!r}: {err}") from err
+        raise ctx.error(where, str(err)) from err
+    except (TypeError, ValueError) as err:  # a field of the wrong kind the class did not name
+        raise ctx.error(where, f"{err}") from err
+
+
+def _field_value(raw, where, has_unit, ctx, types):
+    if has_unit:
+        if isinstance(raw, list):
+            return tuple(_field_value(v, f"{where}[{i}]", True, ctx, types) for i, v in enumerate(raw))
+        if isinstance(raw, str):
+            try:
+                return parse_quantity(raw, where)
+            except RotorkitError as err:
+                raise ModelFileError(f"{ctx.source}: {err}") from err
+        if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+            raise ctx.error(where, f"= {raw!r}: expected a quantity \"<number> <unit>\" or a number in SI units")
+        return float(raw)
+    if isinstance(raw, dict) and "type" in raw:
+        return _build(raw, where, ctx, types)
+    if isinstance(raw, list):
+        return tuple(_field_value(v, f"{where}[{i}]", False, ctx, types) for i, v in enumerate(raw))
+    return _to_python(raw)
+
+
+def loads_model(text, *, source="<string>"):
+    """Build a model from model-file text; returns ``(model, run)`` (``run``: the ``[run]`` table)."""
+    from .model import Model
+
+    ctx = _Where(source)
+    if len(text) > MAX_BYTES:
+        raise ModelFileError(f"{source}: {len(text)} characters; a model file is at most {MAX_BYTES} bytes")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise ModelFileError(f"{source}: not valid TOML: {err}") from err
+    except (RecursionError, ValueError, MemoryError) as err:  # absurd nesting, a 5000-digit integer
+        raise ModelFileError(f"{source}: not a usable TOML file ({type(err).__name__}: {str(err)[:200]})") from err
+    _check_shape(data, 0, [0], "file", ctx)
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise ctx.error("top level", f"unknown key {key!r}; {_did_you_mean(key, _TOP_KEYS)}")
+    if data.get("format") != FORMAT:
+        raise ctx.error("format", f"= {data.get('format')!r}: expected format = \"{FORMAT}\" "
+                                  "(is this a rotorkit model file?)")
+    version = data.get("version")
+    if not isinstance(version, int) or isinstance(version, bool) or version > VERSION or version < 1:
+        raise ctx.error("version", f"= {version!r}: this rotorkit reads model files of version 1 to {VERSION}")
+    name = data.get("name", Path(source).stem if source != "<string>" else "model")
+    if not isinstance(name, str):
+        raise ctx.error("name", f"= {name!r}: expected a string")
+    tables = data.get("element")
+    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
+        raise ctx.error("element", "expected one or more [[element]] tables")
+    types = element_types()
+    elements = [_build(t, f"element {i + 1}", ctx, types) for i, t in enumerate(tables)]
+    run = data.get("run", {})
+    if not isinstance(run, dict):
+        raise ctx.error("run", f"= {run!r}: expected a table")
+    for key in run:
+        if key not in RUN_KEYS:
+            raise ctx.error("[run]", f"unknown key {key!r}; {_did_you_mean(key, RUN_KEYS)}")
+    if "t_end" in run and (isinstance(run["t_end"], bool) or not isinstance(run["t_end"], (int, float))
+                           or not 0 < run["t_end"] < math.inf):
+        raise ctx.error("[run] t_end", f"= {run['t_end']!r}: expected a positive number of seconds")
+    try:
+        model = Model(elements, name=name)
+    except RotorkitError as err:
+        raise ModelFileError(f"{source}: {err}") from err
+    return model, dict(run)
+
+
+def load_model(path):
+    """Read a model file (TOML, see :mod:`rotorkit.modelfile`) into a :class:`~rotorkit.Model`.
+
+    Examples
+    --------
+    >>> import tempfile, rotorkit as rk
+    >>> m = rk.Model([rk.Rotor(name="R", stations=(1,), speed=300.0),
+    ...               rk.Disk(station=1, mass=2.0, radius=0.1),
+    ...               rk.ElasticSupport(station=1, stiffness=2e4)])
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     m2 = rk.load_model(m.save(folder + "/jeffcott.toml"))
+    >>> m2.parameters == m.parameters
+    True
+    """
+    return read_model_file(path)[0]
+
+
+def read_model_file(path):
+    """``(model, run)`` from a model file: the model and its ``[run]`` table."""
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+    except OSError as err:
+        raise ModelFileError(f"{path}: cannot read the model file ({err.strerror})") from err
+    if size > MAX_BYTES:
+        raise ModelFileError(f"{path}: {size} bytes; a model file is at most {MAX_BYTES} bytes")
+    try:
+        raw = path.read_bytes()
+        text = raw.decode("utf-8")
+    except OSError as err:
+        raise ModelFileError(f"{path}: cannot read the model file ({err.strerror})") from err
+    except UnicodeDecodeError as err:
+        raise ModelFileError(f"{path}: not UTF-8 text ({err.reason} at byte {err.start})") from err
+    return loads_model(text, source=str(path))
