@@ -352,6 +352,12 @@ class Model:
 
         return compile_model(self, backend=backend)
 
+    def _repr_html_(self):
+        """Jupyter display: elements and parameters as tables."""
+        from .display import model_html
+
+        return model_html(self)
+
     def __repr__(self):
         return (f"Model({self.name!r}: {len(self.elements)} elements, {len(self.coordinate_names)} coordinates, "
                 f"effects={sorted(self.effects)})")

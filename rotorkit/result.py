@@ -48,6 +48,12 @@ class Result:
         for arr in (self.t, self.y):
             arr.setflags(write=False)
 
+    def _repr_html_(self):
+        """Jupyter display: span, samples, signals and run statistics."""
+        from .display import result_html
+
+        return result_html(self)
+
     def __getitem__(self, name):
         if name in self.state_names:
             return self.y[self.state_names.index(name)]

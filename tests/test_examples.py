@@ -23,3 +23,31 @@ def test_paper_figures_example(tmp_path):
     for name in ("fig07_load_disk2.png", "fig08_orbit_disk2.png"):
         assert (tmp_path / "figs" / name).stat().st_size > 10_000
         assert name in out
+
+
+def test_first_model_notebook_executes(tmp_path, monkeypatch):
+    """The example notebook runs top to bottom in a fresh kernel, and its objects render as HTML/LaTeX."""
+    import os
+
+    import nbclient
+    import nbformat
+
+    root = str(EXAMPLES.parent)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(EXAMPLES / "first_model.ipynb", as_version=4)
+    nbclient.NotebookClient(nb, timeout=600, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs]
+    assert not [o for o in outputs if o.output_type == "error"]
+    data = [o.get("data", {}) for o in outputs]
+    assert any("text/html" in d and "support1_stiffness" in d["text/html"] for d in data)  # the model
+    assert any("text/latex" in d and r"\mathbf{M}" in d["text/latex"] for d in data)  # the equations
+    assert any("image/png" in d for d in data)  # the orbit
+    assert (tmp_path / "jeffcott.toml").stat().st_size > 0
+
+
+def test_every_example_is_run_by_a_test():
+    source = Path(__file__).read_text()
+    examples = [p.name for p in EXAMPLES.iterdir() if p.suffix in (".py", ".ipynb")]
+    assert examples and all(name in source for name in examples)

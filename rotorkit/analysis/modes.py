@@ -167,7 +167,7 @@ class Modes:
             lo, hi = self.frequency_range[i] * factor
             spread = f"{lo:10.4g} - {hi:<10.4g}" if np.isfinite(lo) else f"{'n/a':>23}"
             lines.append(
-                f"{i:>4}  {f * factor:>18.6g}  {f / (2 * math.pi):>9.4g}  {self.damping_ratios[i]:>13.4g}  "
+                f"{i + 1:>4}  {f * factor:>18.6g}  {f / (2 * math.pi):>9.4g}  {self.damping_ratios[i]:>13.4g}  "
                 f"{spread:>24}  {', '.join(self.dominant_coordinates(i))}"
             )
         return "\n".join(lines)

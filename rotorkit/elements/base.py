@@ -121,6 +121,12 @@ class Element:
         """Parameters (field names) whose values are times of discontinuity."""
         return self._time_event_fields
 
+    def _repr_latex_(self):
+        """Jupyter display: type, label and parameters with symbols and units."""
+        from ..display import element_latex
+
+        return element_latex(self)
+
     def structure(self) -> tuple:
         """What the equations' form depends on, other than parameter values."""
         values = []

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-__all__ = ["plot_orbit", "plot_signals", "new_axes", "LENGTH_UNITS"]
+__all__ = ["plot_orbit", "plot_signals", "new_axes", "signal_unit", "LENGTH_UNITS"]
 
 #: output length units -> factor from metres
 LENGTH_UNITS = {"m": 1.0, "mm": 1e3, "um": 1e6}
@@ -45,20 +45,50 @@ def plot_orbit(result, station, ax=None, *, units="um", start=None, end=None, cl
     -------
     matplotlib.axes.Axes
     """
-    ax = new_axes(ax, figsize=(5.0, 5.0))
+    ax = new_axes(ax, figsize=(5.6, 5.0))
     f = _factor(units)
+    unit = "µm" if units == "um" else units
     r = result.window(start if start is not None else result.t[0], end if end is not None else result.t[-1])
-    ax.plot(r[f"x{station}"] * f, r[f"y{station}"] * f, lw=0.4, **line_kwargs)
+    x, y, t = r[f"x{station}"] * f, r[f"y{station}"] * f, r.t
+    if line_kwargs or t.size < 2:
+        ax.plot(x, y, lw=0.4, **line_kwargs)
+    else:  # colour shows time, so the path through a manoeuvre can be followed
+        from matplotlib.collections import LineCollection
+
+        points = np.column_stack([x, y])
+        lines = LineCollection(np.stack([points[:-1], points[1:]], axis=1), cmap="viridis", linewidths=0.5)
+        lines.set_array(0.5 * (t[:-1] + t[1:]))
+        ax.add_collection(lines)
+        ax.autoscale_view()
+        ax.figure.colorbar(lines, ax=ax, label="time t (s)", shrink=0.8)
+    title = f"{result.name}: axis orbit of station {station}, {t[0]:g}-{t[-1]:g} s" if t.size else result.name
     if clearance is not None:
         th = np.linspace(0, 2 * np.pi, 361)
-        ax.plot(clearance * f * np.cos(th), clearance * f * np.sin(th), "k--", lw=0.8, label="clearance")
-        ax.legend(loc="upper right")
+        ax.plot(clearance * f * np.cos(th), clearance * f * np.sin(th), "k--", lw=0.8)
+        title += f"\ndashed circle: clearance {clearance * f:.4g} {unit}"
+    window = _maneuver_window(result)
+    if window is not None and t.size and window[0] < t[-1]:
+        title += f"; manoeuvre {window[0]:g}-{window[1]:g} s"
     ax.set_aspect("equal", adjustable="datalim")
-    unit = "µm" if units == "um" else units
-    ax.set_xlabel(f"x{station} ({unit})")
-    ax.set_ylabel(f"y{station} ({unit})")
-    ax.set_title(f"{result.name}: axis orbit at station {station}")
+    ax.set_xlabel(f"horizontal displacement x{station} ({unit})")
+    ax.set_ylabel(f"vertical displacement y{station} ({unit})")
+    ax.set_title(title, fontsize=9)
     return ax
+
+
+def _maneuver_window(result):
+    """(start, end) of a manoeuvre in the result's parameters, or None."""
+    start, end = result.parameters.get("maneuver_roll_start"), result.parameters.get("maneuver_roll_end")
+    return None if start is None or end is None else (float(start), float(end))
+
+
+#: SI unit of a coordinate's signal, by its name
+def signal_unit(name):
+    """SI unit of a named signal: m for x/y, rad for alpha, per second for ``_dot`` (differences alike)."""
+    base = name.split("-")[0].strip()
+    speed = base.endswith("_dot")
+    unit = "rad" if base.startswith("alpha") else "m"
+    return f"{unit}/s" if speed else unit
 
 
 def plot_signals(result, names, ax=None, *, scale=1.0, unit_label="", highpass=None, **line_kwargs):
@@ -90,8 +120,17 @@ def plot_signals(result, names, ax=None, *, scale=1.0, unit_label="", highpass=N
 
             x = hp(result.t, x, highpass)
         ax.plot(result.t, x * scale, lw=0.5, label=name, **line_kwargs)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(f"{', '.join(names)}" + (f" ({unit_label})" if unit_label else ""))
-    ax.legend(loc="upper right")
-    ax.set_title(result.name + (f" (high-pass {highpass:g} Hz)" if highpass else ""))
+    units = sorted({signal_unit(n) for n in names})
+    if not unit_label:  # SI, named from the signals themselves
+        unit_label = units[0] if len(units) == 1 and scale == 1.0 else ""
+    quantity = {"m": "displacement", "rad": "torsional angle", "m/s": "velocity", "rad/s": "angular velocity"}
+    what = ", ".join(sorted({quantity.get(u, "signal") for u in units}))
+    ax.set_xlabel("time t (s)")
+    ax.set_ylabel(f"{what} {', '.join(names)}" + (f" ({unit_label})" if unit_label else f" (x{scale:g} SI)"))
+    window = _maneuver_window(result)
+    if window is not None and result.t.size and window[0] < result.t[-1]:
+        ax.axvspan(window[0], min(window[1], result.t[-1]), color="0.9", zorder=0, label="manoeuvre")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
+    ax.set_title(f"{result.name}: {', '.join(names)} against time"
+                 + (f" (high-pass {highpass:g} Hz)" if highpass else ""), fontsize=10)
     return ax

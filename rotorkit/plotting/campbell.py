@@ -43,6 +43,8 @@ def plot_campbell(campbell, ax=None, units="rad/s", *, show_critical=True):
     f = _factor(units)
     speeds = campbell.speeds * f
     for k in range(campbell.n_modes):
+        if not np.isfinite(campbell.frequencies[:, k]).any():
+            continue  # a mode that does not exist in the swept range gets no legend entry
         ax.plot(speeds, campbell.frequencies[:, k] * f, "-", color=f"C{k % 10}", lw=1.2,
                 marker="o" if speeds.size < 30 else None, ms=3, label=f"mode {k + 1}")
     for j, (rotor, line) in enumerate(campbell.rotor_speeds.items()):
