@@ -125,7 +125,7 @@ def test_cascade_3d_stacks_ok_points_and_marks_the_others():
     assert labels(ax) == ["1500"]
     ys = sorted(np.asarray(s)[0, 1] for s in spectra[0]._segments3d)
     assert ys == [1000.0, 1500.0, 2000.0]
-    assert ax.get_ylabel() == "lp_speed" and ax.get_xlabel() == "frequency (rad/s)"
+    assert ax.get_ylabel() == "lp_speed (rad/s)" and ax.get_xlabel() == "frequency (rad/s)"
     assert "t in [2.2, 3.8] s" in ax.get_title()
 
 
@@ -161,7 +161,7 @@ def test_cascade_log_values_and_errors():
     ax = plot_cascade(cascade, "x2", log_values=True)
     ys = sorted(np.asarray(s)[0, 1] for s in ax.collections[0]._segments3d)
     np.testing.assert_allclose(ys, np.log10([1000.0, 1500.0, 2000.0]))
-    assert ax.get_ylabel() == "log10 lp_speed"
+    assert ax.get_ylabel() == "log10 lp_speed (rad/s)"
     with pytest.raises(ParameterError, match="no signal 'y2'; signals are x2, alpha2-alpha5"):
         plot_cascade(cascade, "y2")
     with pytest.raises(ParameterError, match="same labels"):

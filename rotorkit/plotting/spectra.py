@@ -241,7 +241,8 @@ def _draw_orders_3d(ax, orders, f0, f1, y0, y1):
         if not f0 <= freq <= f1:
             continue
         ax.plot([freq, freq], [y0, y1], [0.0, 0.0], ls="--", lw=0.9, color=f"C{(k + 1) % 10}", label=label)
-        ax.text(freq, y1, 0.0, f" {label}", fontsize=7, color=f"C{(k + 1) % 10}")
+    if ax.lines:  # a legend beside the axes: labels at the line ends piled up where orders are close
+        ax.legend(loc="upper left", bbox_to_anchor=(1.05, 1.0), fontsize=7, borderaxespad=0.0)
 
 
 def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0, amplitude_label="amplitude",
@@ -315,8 +316,28 @@ def _cascade_orders(orders, values, units):
     return {label: np.full(len(values), freq) for label, freq in _check_orders(orders, units).items()}
 
 
+def _parameter_unit(cascade):
+    """SI unit of the swept parameter: the cascade's own, else its preset's ``UNITS``, else ``None``."""
+    unit = getattr(cascade, "parameter_unit", None)
+    if unit is None and getattr(cascade, "preset", ""):
+        try:
+            from ..presets import preset_module
+
+            unit = getattr(preset_module(cascade.preset), "UNITS", {}).get(cascade.parameter)
+        except Exception:  # a build callable or a file: no unit known
+            unit = None
+    return unit
+
+
+def _plain_ticks(axis):
+    """Tick labels that carry their own exponent (no bare ``1e7`` offset beside the axis)."""
+    from matplotlib.ticker import FuncFormatter
+
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.4g}"))
+
+
 def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=True, log_values=False, log=False,
-                 scale=1.0, amplitude_label="amplitude", color="C0", linewidth=0.8, colorbar=True):
+                 scale=1.0, amplitude_label=None, color="C0", linewidth=0.8, colorbar=True):
     """Spectrum cascade: the spectra of a sweep stacked along the swept parameter.
 
     Parameters
@@ -343,8 +364,9 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
         Logarithmic colour scale (2-D only).
     scale : float
         Factor applied to the amplitudes.
-    amplitude_label : str
-        Label of the amplitude axis (or colour bar), with its unit.
+    amplitude_label : str, optional
+        Label of the amplitude axis (or colour bar), with its unit; default
+        ``"<signal> amplitude (m)"`` (rad for angles) when ``scale`` is 1.
     color, linewidth
         Of the spectra (3-D).
     colorbar : bool
@@ -368,14 +390,20 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
         raise ParameterError(f"cascade={type(cascade).__name__}: expected a rotorkit.sweep.Cascade") from None
     units = cascade.units
     scale = _check_scale(scale)
+    if amplitude_label is None:
+        from .basic import signal_unit
+
+        amplitude_label = f"{signal} amplitude ({signal_unit(signal)}{'' if scale == 1.0 else f' x {scale:g}'})"
     values = np.asarray(cascade.values, dtype=float)
+    unit = _parameter_unit(cascade)
+    shown_unit = f" ({unit})" if unit else (" (-)" if unit == "" else "")
     if log_values:
         if np.any(values <= 0):
             raise ParameterError("log_values=True needs positive swept values")
         position = np.log10(values)
-        value_label = f"log10 {cascade.parameter}"
+        value_label = f"log10 {cascade.parameter}{shown_unit}"
     else:
-        position, value_label = values, cascade.parameter
+        position, value_label = values, f"{cascade.parameter}{shown_unit}"
     status = np.asarray(cascade.status)
     frequency = np.asarray(cascade.frequency, dtype=float)
     keep = _frequency_mask(frequency, fmax, units)
@@ -430,10 +458,12 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
             ax.plot(freqs, position[sort], np.zeros(freqs.size), **style)
         else:
             ax.plot(freqs, position[sort], **style)
-    if marked or (lines and not three_d):
-        ax.legend(loc="upper right", fontsize=7)
+    if marked or lines:  # beside the axes, so order labels neither pile up nor cover spectra
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02 if not three_d else 1.08, 1.0), fontsize=7,
+                  borderaxespad=0.0)
     ax.set_xlim(f0, f1)
     ax.set_ylim(y0, y1)
+    _plain_ticks(ax.yaxis)
     ax.set_xlabel(_frequency_label(units))
     ax.set_ylabel(value_label)
     window = getattr(cascade, "window", None)
