@@ -84,3 +84,22 @@ def test_campbell_legend_lists_only_existing_modes():
                        rotor_speeds={"R": speeds}, speed_parameter="R_speed")
     labels = [t.get_text() for t in plot_campbell(diagram).get_legend().get_texts()]
     assert "mode 1" in labels and "mode 2" in labels and "mode 3" not in labels
+
+
+def test_cascade_axes_name_units_and_orders_sit_in_a_legend():
+    from rotorkit.plotting.spectra import plot_cascade, speed_orders
+    from rotorkit.sweep import Cascade
+
+    values, f = np.linspace(5e5, 2e7, 4), np.linspace(0.0, 5000.0, 201)
+    rows = np.array([np.exp(-((f - 1500.0) / 30.0) ** 2) for _ in values])
+    cascade = Cascade(parameter="rub_stiffness", values=values, frequency=f, amplitude={"x2": 1e-5 * rows},
+                      status=np.array(["ok"] * 4), failure_time=np.full(4, np.nan),
+                      max_displacement=np.full(4, 1e-4), messages=("",) * 4, preset="al31f", window=(2.2, 3.8),
+                      highpass_hz=5.0)
+    ax = plot_cascade(cascade, "x2", orders=speed_orders(1500.0, 1.8))
+    assert ax.get_ylabel() == "rub_stiffness (N/m)" and ax.get_zlabel() == "x2 amplitude (m)"
+    ax.figure.canvas.draw()
+    assert ax.yaxis.get_offset_text().get_text() == "" and ax.zaxis.get_offset_text().get_text() == ""
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert legend == list(speed_orders(1500.0, 1.8)) and not ax.texts  # no piled-up labels on the plot
+    assert "spectra of x2 against rub_stiffness" in ax.get_title()

@@ -213,3 +213,29 @@ def test_cli_export_writes_the_preset(tmp_path):
     model, run = loads_model(proc.stdout, source="al31f.toml")
     assert model.elements == rk.preset("al31f", rub_stiffness=2e6).elements
     assert run["t_end"] == 6.0 and run["orbit_station"] == 2
+
+
+@pytest.mark.parametrize("argv", [["run", "al31f", "--t-end", "-1"], ["run", "al31f", "--rtol", "0"],
+                                  ["stiffness", "al31f", "--t-end", "nan"], ["sweep", "al31f", "--param",
+                                                                             "rub_stiffness=1:2:3", "--workers", "0"]])
+def test_options_are_checked_before_any_derivation(argv, monkeypatch, capsys):
+    from rotorkit.cli import main
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("derived or compiled before the options were checked")
+
+    monkeypatch.setattr(rk.Model, "equations", forbidden)
+    monkeypatch.setattr(rk.Model, "compile", forbidden)
+    assert main(argv) == 2
+    assert "expected" in capsys.readouterr().err
+
+
+def test_sweep_and_set_give_the_same_did_you_mean(capsys):
+    from rotorkit.cli import main
+
+    assert main(["sweep", "al31f", "--param", "rub_stifness=1:2:3"]) == 2
+    sweep = capsys.readouterr().err
+    assert main(["equations", "al31f", "--set", "rub_stifness=1"]) == 2
+    setting = capsys.readouterr().err
+    hint = "'rub_stifness' is not a parameter of al31f; did you mean rub_stiffness"
+    assert hint in sweep and hint in setting

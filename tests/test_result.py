@@ -36,7 +36,7 @@ def test_load_rejects_foreign_files(tmp_path):
 
 def test_plot_methods_return_axes(result):
     ax = result.plot_orbit(2, clearance=1.34e-4)
-    assert ax.get_xlabel() == "x2 (µm)"
+    assert ax.get_xlabel() == "horizontal displacement x2 (µm)"
     ax = result.plot_signals(["x2", "alpha2-alpha5"], scale=1e6)
     assert len(ax.lines) == 2
 

@@ -421,7 +421,9 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
         ax.add_collection3d(Line3DCollection(segments, colors=color, linewidths=linewidth), autolim=False)
         top = float(np.nanmax(a[ok])) if f.size and ok.any() else 0.0
         ax.set_zlim(0.0, top * 1.05 if top > 0 else 1.0)
-        ax.set_zlabel(amplitude_label)
+        ax.set_zlabel(amplitude_label, labelpad=12)
+        _plain_ticks(ax.zaxis)
+        ax.yaxis.labelpad = 14
     else:
         from matplotlib.colors import LogNorm
 
@@ -467,7 +469,9 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
     ax.set_xlabel(_frequency_label(units))
     ax.set_ylabel(value_label)
     window = getattr(cascade, "window", None)
-    title = f"{cascade.preset}: {signal}" if getattr(cascade, "preset", "") else signal
+    title = f"spectra of {signal} against {cascade.parameter}"
+    if getattr(cascade, "preset", ""):
+        title = f"{cascade.preset}: {title}"
     if window:
         title += f", t in [{window[0]:g}, {window[1]:g}] s"
     ax.set_title(title, fontsize=9)
