@@ -13,40 +13,18 @@ import shutil
 
 import numpy as np
 import pytest
-import sympy as sp
-
-import rotorkit as rk
 from rotorkit.analysis.signals import find_peaks
 from rotorkit.errors import ParameterError, RotorkitError
-from rotorkit.sweep import MANIFEST_NAME, Cascade, load_sweep, parse_range, point_path, run_sweep
+from rotorkit.sweep import DATASET_NAME, MANIFEST_NAME, Cascade, load_cascade, parse_range, point_path, run_sweep
 
-SPIN = 300.0  # rad/s
-MASS, STIFFNESS, DAMPING = 2.0, 2.0e4, 60.0  # wn = 100 rad/s, zeta = 0.15
-CLEARANCE = 1e-4  # m
+from sweep_models import CLEARANCE, SPIN, build_jeffcott, unbalance_amplitude  # noqa: E402
+
 WINDOW = (0.2, 0.5)
 STIFFNESSES = [0.0, 1e4, 3e4, 1e5]
 
 
-def build_jeffcott(rub_stiffness=2e4, eccentricity=1e-4, singular_load=0.0):
-    """A Jeffcott rotor in a rub stator; ``singular_load`` adds a load that is NaN after t = 0.3 s."""
-    elements = [
-        rk.Rotor(name="R", stations=(1,), speed=SPIN),
-        rk.Disk(station=1, mass=MASS, radius=0.1, eccentricity=eccentricity, torsion=False),
-        rk.ElasticSupport(station=1, stiffness=STIFFNESS, damping=DAMPING),
-        rk.RubStator(station=1, clearance=CLEARANCE, contact_stiffness=rub_stiffness, friction_coefficient=0.1),
-    ]
-    if singular_load:
-        elements.append(rk.Maneuver.profile(lambda t: singular_load * sp.log(0.3 - t), lambda t: 0 * t))
-    return rk.Model(elements, name="jeffcott-rub")
-
-
-build_jeffcott.OUTPUTS = {"t_end": 0.5, "bending": "x1"}
-
-
-def unbalance_amplitude(eccentricity=1e-4):
-    r = SPIN / math.sqrt(STIFFNESS / MASS)
-    zeta = DAMPING / (2.0 * math.sqrt(STIFFNESS * MASS))
-    return eccentricity * r**2 / math.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
+def run_cascade(*args, **kwargs):
+    return Cascade.from_dataset(run_sweep(*args, **kwargs))
 
 
 class Recorder:
@@ -55,8 +33,8 @@ class Recorder:
     def __init__(self):
         self.calls = []
 
-    def __call__(self, done, total, value, status):
-        self.calls.append((done, total, value, status))
+    def __call__(self, event):
+        self.calls.append((event.done, event.total, next(iter(event.point.values())), event.status))
 
     def statuses(self):
         return {value: status for _, _, value, status in self.calls}
@@ -126,25 +104,26 @@ def test_parse_range_needs_a_string():
 def jeffcott_sweep(tmp_path_factory):
     out = tmp_path_factory.mktemp("sweep") / "rub"
     progress = Recorder()
-    cascade = run_sweep(build_jeffcott, "rub_stiffness", STIFFNESSES, out_dir=out, window=WINDOW, workers=2,
+    cascade = run_cascade(build_jeffcott, "rub_stiffness", STIFFNESSES, out_dir=out, window=WINDOW, workers=2,
                         signals=["x1", "y1"], progress=progress)
     return out, cascade, progress
 
 
 def test_sweep_writes_one_file_per_point_and_a_manifest(jeffcott_sweep):
     out, _, progress = jeffcott_sweep
-    expected = [MANIFEST_NAME] + [point_path(out, i).name for i in range(4)]
-    assert sorted(p.name for p in out.iterdir()) == sorted(expected)  # no temporary files left
+    assert sorted(p.name for p in out.iterdir()) == sorted([MANIFEST_NAME, DATASET_NAME, "points"])
+    assert sorted(p.name for p in (out / "points").iterdir()) == [point_path(out, i).name for i in range(4)]
     manifest = json.loads((out / MANIFEST_NAME).read_text())
-    assert manifest["parameter"] == "rub_stiffness" and manifest["values"] == STIFFNESSES
-    assert manifest["window"] == list(WINDOW) and manifest["t_end"] == 0.5  # from build_jeffcott.OUTPUTS
-    assert manifest["preset"].endswith("build_jeffcott") and manifest["signals"] == ["x1", "y1"]
+    assert manifest["space"] == {"kind": "grid", "names": ["rub_stiffness"], "axes": {"rub_stiffness": STIFFNESSES}}
+    settings = manifest["settings"]
+    assert settings["window"] == list(WINDOW) and settings["t_end"] == 0.5  # from build_jeffcott.OUTPUTS
+    assert manifest["scene_name"].endswith("build_jeffcott") and settings["signals"] == ["x1", "y1"]
     assert [c[0] for c in progress.calls] == [1, 2, 3, 4] and {c[1] for c in progress.calls} == {4}
     assert sorted(c[2] for c in progress.calls) == STIFFNESSES
     assert {c[3] for c in progress.calls} == {"ok"}
     with np.load(point_path(out, 2), allow_pickle=False) as data:
         meta = json.loads(str(data["meta"]))
-        assert meta["status"] == "ok" and meta["value"] == 3e4 and meta["parameter"] == "rub_stiffness"
+        assert meta["status"] == "ok" and meta["point"] == {"rub_stiffness": 3e4} and meta["index"] == 2
         assert data["amplitude"].shape == (2, data["frequency"].size)
     assert meta["stats"]["nfev"] > 0 and meta["stats"]["pid"] != os.getpid()  # computed in a worker
 
@@ -168,7 +147,7 @@ def test_cascade_shows_the_synchronous_peak(jeffcott_sweep):
     # no rub force: the closed-form unbalance whirl
     peak = max(find_peaks(cascade.spectrum("x1", 0)), key=lambda p: p.amplitude)
     assert peak.amplitude == pytest.approx(unbalance_amplitude(), rel=0.01)
-    again = load_sweep(out)
+    again = load_cascade(out)
     np.testing.assert_array_equal(again.amplitude["x1"], cascade.amplitude["x1"])
     with pytest.raises(ValueError):
         cascade.amplitude["x1"][0, 0] = 1.0  # read-only
@@ -183,7 +162,7 @@ def test_resume_recomputes_only_missing_and_damaged_points(jeffcott_sweep, tmp_p
     damaged.write_bytes(damaged.read_bytes()[:500])  # truncated
     kept = {i: point_path(out, i).stat().st_mtime_ns for i in (0, 3)}
     progress = Recorder()
-    resumed = run_sweep(build_jeffcott, "rub_stiffness", STIFFNESSES, out_dir=out, window=WINDOW, workers=2,
+    resumed = run_cascade(build_jeffcott, "rub_stiffness", STIFFNESSES, out_dir=out, window=WINDOW, workers=2,
                         signals=["x1", "y1"], progress=progress)
     assert progress.statuses() == {0.0: "cached", 1e4: "ok", 3e4: "ok", 1e5: "cached"}
     assert [c[0] for c in progress.calls] == [1, 2, 3, 4]
@@ -197,21 +176,21 @@ def test_load_sweep_marks_points_not_yet_computed(jeffcott_sweep, tmp_path):
     out = tmp_path / "rub"
     shutil.copytree(original, out)
     point_path(out, 3).unlink()
-    cascade = load_sweep(out)
+    cascade = load_cascade(out)
     assert list(cascade.status) == ["ok", "ok", "ok", "missing"]
     assert np.all(np.isnan(cascade.amplitude["x1"][3])) and np.all(np.isfinite(cascade.amplitude["x1"][:3]))
     with pytest.raises(ParameterError, match="status 'missing'"):
         cascade.spectrum("x1", 3)
     with pytest.raises(ParameterError, match="not a sweep folder"):
-        load_sweep(tmp_path / "nowhere")
+        load_cascade(tmp_path / "nowhere")
 
 
 @pytest.mark.parametrize("change, match", [
-    (dict(values=[0.0, 1e4, 3e4]), "values: "),
-    (dict(window=(0.25, 0.5)), "window: "),
-    (dict(name="eccentricity", values=[1e-5, 2e-5]), "parameter: "),
-    (dict(signals=["x1"]), "signals: "),
-    (dict(overrides={"eccentricity": 2e-4}), "overrides: "),
+    (dict(values=[0.0, 1e4, 3e4]), "space.axes.rub_stiffness: "),
+    (dict(window=(0.25, 0.5)), "settings.window: "),
+    (dict(name="eccentricity", values=[1e-5, 2e-5]), "space.axes.eccentricity: "),
+    (dict(signals=["x1"]), "settings.signals: "),
+    (dict(overrides={"eccentricity": 2e-4}), "scene.overrides.eccentricity: "),
 ])
 def test_a_folder_of_another_sweep_is_refused(jeffcott_sweep, change, match):
     out, _, _ = jeffcott_sweep
@@ -236,7 +215,7 @@ def _point_arrays(out, index):
 def test_a_runaway_point_is_recorded_not_a_garbage_spectrum(tmp_path):
     """A huge unbalance drives the disk 30 mm out: far past 10 x the 0.1 mm clearance."""
     progress = Recorder()
-    cascade = run_sweep(build_jeffcott, "eccentricity", [1e-5, 1e-2], out_dir=tmp_path, window=WINDOW, workers=1,
+    cascade = run_cascade(build_jeffcott, "eccentricity", [1e-5, 1e-2], out_dir=tmp_path, window=WINDOW, workers=1,
                         progress=progress)
     assert progress.statuses() == {1e-5: "ok", 1e-2: "runaway"}
     assert cascade.signals == ("x1",)  # the build function's OUTPUTS
@@ -246,25 +225,25 @@ def test_a_runaway_point_is_recorded_not_a_garbage_spectrum(tmp_path):
     assert 0.0 < cascade.failure_time[1] < 0.5 and np.isnan(cascade.failure_time[0])
     assert "runaway limit" in cascade.messages[1] and cascade.messages[0] == ""
     meta, frequency, amplitude = _point_arrays(tmp_path, 1)
-    assert meta["status"] == "runaway" and meta["runaway_limit"] == pytest.approx(10 * CLEARANCE)
+    assert meta["status"] == "runaway" and meta["runaway_limit"] == pytest.approx(10 * CLEARANCE)  # the bound
     assert meta["time"] == cascade.failure_time[1] and meta["max_displacement"] > 1e-3
     assert frequency.size == 0 and amplitude.shape == (1, 0)  # no spectrum at all, not NaNs
     assert meta["stats"]["success"] is False  # simulate stopped it (bound=), not integrated to the end
     # a limit given explicitly wins
-    again = run_sweep(build_jeffcott, "eccentricity", [1e-2], out_dir=tmp_path / "limit", window=WINDOW,
+    again = run_cascade(build_jeffcott, "eccentricity", [1e-2], out_dir=tmp_path / "limit", window=WINDOW,
                       workers=1, runaway_limit=1.0)
     assert list(again.status) == ["ok"]
 
 
 def test_the_wall_time_limit_holds_for_the_whole_point(tmp_path):
-    cascade = run_sweep(build_jeffcott, "rub_stiffness", [1e4], out_dir=tmp_path, window=WINDOW, workers=1,
+    cascade = run_cascade(build_jeffcott, "rub_stiffness", [1e4], out_dir=tmp_path, window=WINDOW, workers=1,
                         simulate_options={"time_limit": 1e-6})
     assert list(cascade.status) == ["failed"] and "wall-time limit" in cascade.messages[0]
 
 
 def test_a_failed_integration_is_recorded_and_the_sweep_goes_on(tmp_path):
     progress = Recorder()
-    cascade = run_sweep(build_jeffcott, "singular_load", [1e-3, 0.0], out_dir=tmp_path, window=WINDOW, workers=1,
+    cascade = run_cascade(build_jeffcott, "singular_load", [1e-3, 0.0], out_dir=tmp_path, window=WINDOW, workers=1,
                         signals=["x1"], progress=progress)
     assert progress.statuses() == {1e-3: "failed", 0.0: "ok"}
     assert list(cascade.status) == ["failed", "ok"]
@@ -290,13 +269,13 @@ def test_preset_sweep_with_default_signals_and_quantity_overrides(tmp_path):
     from rotorkit.units import registry
 
     q = registry().Quantity
-    cascade = run_sweep("al31f", "friction_coefficient", [0.0, 0.1], out_dir=tmp_path / "a", t_end=0.3,
+    cascade = run_cascade("al31f", "friction_coefficient", [0.0, 0.1], out_dir=tmp_path / "a", t_end=0.3,
                         window=(0.1, 0.3), workers=1, overrides={"rub_clearance": q(134.0, "um")})
     assert cascade.preset == "al31f" and cascade.signals == ("x2", "alpha2-alpha5")
     assert list(cascade.status) == ["ok", "ok"]
     manifest = json.loads((tmp_path / "a" / MANIFEST_NAME).read_text())
-    assert manifest["overrides"] == {"rub_clearance": {"quantity": 134.0, "unit": "micrometer"}}
-    no_torsion = run_sweep("al31f", "rub_stiffness", [8e6], out_dir=tmp_path / "b", t_end=0.2, window=(0.1, 0.2),
+    assert manifest["scene"]["overrides"] == {"rub_clearance": {"quantity": 134.0, "unit": "micrometer"}}
+    no_torsion = run_cascade("al31f", "rub_stiffness", [8e6], out_dir=tmp_path / "b", t_end=0.2, window=(0.1, 0.2),
                            workers=1, overrides={"torsion": False, "maneuver": False})
     assert no_torsion.signals == ("x2",)
 
@@ -309,6 +288,13 @@ def test_preset_sweep_with_default_signals_and_quantity_overrides(tmp_path):
     (build_jeffcott, "rub_stiffness", [1.0, 1.0], {}, ParameterError, "appears twice"),
     (build_jeffcott, "rub_stiffness", [1.0, float("nan")], {}, ParameterError, "finite numbers"),
     (build_jeffcott, "rub stiffness", [1.0], {}, ParameterError, "name of a parameter"),
+    (build_jeffcott, "rub_stiffness", list(range(100_001)), {}, ParameterError, "100,001 points.*max_points"),
+    (build_jeffcott, {"rub_stiffness": range(10**5), "eccentricity": range(10**5)}, None, {}, ParameterError,
+     "10,000,000,000 points.*max_points"),
+    (build_jeffcott, "rub_stiffness", [1.0], {"orders": ["1/2 HP"]}, ParameterError, "'HP' is not a rotor"),
+    (build_jeffcott, "rub_stiffness", [1.0], {"orders": ["half"]}, ParameterError, "'half' is not a rotor"),
+    (build_jeffcott, "rub_stiffness", [1.0], {"poincare": ["q1"]}, ParameterError, "'q1' is not a state"),
+    (build_jeffcott, "rub_stiffness", [1.0], {"executor": 3}, TypeError, "concurrent.futures.Executor"),
     (build_jeffcott, "rub_stiffness", [1.0], {"overrides": {"rub_stiffness": 2.0}}, ParameterError,
      "both swept and in overrides"),
     (build_jeffcott, "rub_stiffness", [1.0], {"t_end": 0.4}, ParameterError, "ends after t_end"),
@@ -337,11 +323,11 @@ def test_bad_arguments_fail_before_anything_runs(tmp_path, preset, name, values,
 
 
 def test_an_unexpected_error_in_a_point_names_the_point(tmp_path, monkeypatch):
-    import rotorkit.sweep
+    import rotorkit.sweep.run
 
-    def broken(task, build=None):
+    def broken(task):
         raise RuntimeError("a bug")
 
-    monkeypatch.setattr(rotorkit.sweep, "_run_point", broken)
+    monkeypatch.setattr(rotorkit.sweep.run, "run_point", broken)
     with pytest.raises(RotorkitError, match=r"sweep point 0 \(rub_stiffness = 1\) raised RuntimeError: a bug.*resume"):
         run_sweep(build_jeffcott, "rub_stiffness", [1.0], out_dir=tmp_path, window=WINDOW, workers=1)

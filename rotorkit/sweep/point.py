@@ -1,0 +1,237 @@
+"""One sweep point: rebuild the model, simulate, reduce the run to a few arrays.
+
+:func:`run_point` runs in a worker (a local process, a Dask worker or the
+calling process). It takes plain data (a :class:`~rotorkit.sweep.scene.Scene`,
+the point's parameter values and the sweep's settings) and returns plain
+data; it writes nothing: the calling process stores each point as its result
+arrives, so a point retried after a worker died is stored once.
+
+Per point: the high-passed amplitude spectra over the window, the amplitude
+of chosen orders, once-per-revolution (Poincare) samples, the largest
+displacement, the status (``ok``, ``failed``, ``runaway``) with the time and
+reason, the solver statistics and the energy-balance residual.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import time as _time
+from fractions import Fraction
+
+import numpy as np
+
+from ..errors import ParameterError, SimulationError
+
+__all__ = ["run_point", "parse_order", "rotor_speeds", "RUNAWAY_FACTOR"]
+
+#: default runaway limit of a rub station (the disk in a stator): this many times its clearance
+RUNAWAY_FACTOR = 10.0
+
+_TERM = re.compile(r"\s*([+-]?)\s*(\d+(?:\.\d*)?(?:/\d+)?)?\s*\*?\s*([A-Za-z_]\w*)?\s*")
+
+
+def rotor_speeds(model):
+    """Rotor name -> spin speed (rad/s) of a model's rotors, in model order."""
+    from ..elements import Rotor
+
+    rotors = [e for e in model.elements if isinstance(e, Rotor)]
+    speeds = {}
+    for _ in range(len(rotors)):  # references resolve in at most len(rotors) passes
+        for r in rotors:
+            if r.name in speeds:
+                continue
+            if r.speed is not None:
+                speeds[r.name] = float(r.speed)
+            elif r.reference in speeds:
+                speeds[r.name] = float(r.speed_ratio) * speeds[r.reference]
+    return {r.name: speeds[r.name] for r in rotors if r.name in speeds}
+
+
+def parse_order(text, rotors):
+    """An order as ``{rotor name: multiple}``: ``"1/2"`` (of the first rotor), ``"HP - LP"``, ``"3/2 LP"``.
+
+    Examples
+    --------
+    >>> parse_order("HP - 1/2 LP", ["LP", "HP"])
+    {'HP': 1.0, 'LP': -0.5}
+    >>> parse_order("3/2", ["LP", "HP"])
+    {'LP': 1.5}
+    """
+    rotors = list(rotors)
+    if not isinstance(text, str) or not text.strip():
+        raise ParameterError(f"order {text!r}: expected e.g. '1/2', '1', '3/2 LP' or 'HP - LP'")
+    if not rotors:
+        raise ParameterError(f"order {text!r}: the model has no rotor, so it has no speed orders")
+    out, pos, first = {}, 0, True
+    while pos < len(text):
+        m = _TERM.match(text, pos)
+        if not m or m.end() == pos or (not first and not m.group(1)) or not (m.group(2) or m.group(3)):
+            raise ParameterError(f"order {text!r}: expected terms like '1/2', '3/2 LP' or 'HP - LP' "
+                                 f"(rotors: {', '.join(rotors)})")
+        sign = -1.0 if m.group(1) == "-" else 1.0
+        factor = float(Fraction(m.group(2))) if m.group(2) else 1.0
+        name = m.group(3) or rotors[0]
+        if name not in rotors:
+            raise ParameterError(f"order {text!r}: {name!r} is not a rotor of the model (rotors: {', '.join(rotors)})")
+        out[name] = out.get(name, 0.0) + sign * factor
+        pos, first = m.end(), False
+    return out
+
+
+def order_frequency(order, speeds):
+    return sum(k * speeds[name] for name, k in order.items())
+
+
+def _radial(result, station):
+    return np.hypot(result[f"x{station}"], result[f"y{station}"])
+
+
+def _runaway_limits(model, limit):
+    if limit is not None:
+        return [(s, limit) for s in model.stations] if math.isfinite(limit) else []
+    from ..elements import RubStator
+
+    return [(e.station, RUNAWAY_FACTOR * e.clearance) for e in model.elements
+            if isinstance(e, RubStator) and e.clearance > 0]
+
+
+def _first_runaway(result, limits):
+    first = None
+    for station, limit in limits:
+        r = np.nan_to_num(_radial(result, station), nan=0.0)
+        over = np.flatnonzero(r > limit)
+        if over.size and (first is None or over[0] < first[0]):
+            first = (int(over[0]), station, float(r.max()), limit)
+    return first
+
+
+def _order_amplitude(spectrum, peaks, frequency):
+    """Amplitude of the highest peak within +-max(2 bins, 1 %) of ``frequency`` (interpolated between bins
+    without scalloping loss, see :func:`~rotorkit.analysis.signals.find_peaks`); the largest bin there if no
+    peak; NaN outside the spectrum."""
+    f = spectrum.frequency
+    target = abs(frequency)
+    if f.size < 2 or not (0.0 < target <= f[-1]):
+        return np.nan
+    half = max(2.0 * (f[1] - f[0]), 0.01 * target)
+    near = [p.amplitude for p in peaks if abs(p.frequency - target) <= half]
+    if near:
+        return float(max(near))
+    return float(spectrum.amplitude[np.abs(f - target) <= half].max())
+
+
+def poincare_samples(result, name, window, speed, count):
+    """``count`` once-per-revolution samples of signal ``name``: the last revolutions of ``window`` (NaN-padded)."""
+    out = np.full(count, np.nan)
+    if not speed or not math.isfinite(speed) or speed == 0.0:
+        return out
+    period = 2.0 * math.pi / abs(speed)
+    start, end = window
+    n = min(count, int(math.floor((end - start) / period)) + 1)
+    times = end - period * np.arange(n)[::-1]
+    out[count - n:] = np.interp(times, result.t, result[name])
+    return out
+
+
+def _energy_residual(model, result):
+    from ..analysis.energy import energy_balance
+    from ..errors import RotorkitError
+
+    try:
+        return float(energy_balance(model, result).relative_residual)
+    except (RotorkitError, ValueError, FloatingPointError, ZeroDivisionError):
+        return float("nan")
+
+
+def _refused(task, message, wall):
+    s = task["settings"]
+    meta = {"index": task["index"], "point": task["point"], "status": "failed", "time": None,
+            "max_displacement": None, "runaway_limit": None, "message": message, "spectrum": None,
+            "energy_residual": float("nan"), "stats": {"point_wall_time": _time.perf_counter() - wall}}
+    return {"index": task["index"], "meta": meta, "arrays": {
+        "frequency": np.empty(0), "amplitude": np.empty((len(s["signals"]), 0)),
+        "order_amplitude": np.full((len(s["signals"]), len(s["orders"])), np.nan),
+        "poincare": np.full((len(s["poincare_signals"]), s["poincare_revolutions"]), np.nan)}}
+
+
+def run_point(task):
+    """Simulate one point; returns ``{"index", "meta", "arrays"}`` (plain data, nothing written).
+
+    ``task``: ``scene``, ``index``, ``point`` (name -> value) and the sweep
+    ``settings`` (see :func:`rotorkit.sweep.run_sweep`).
+    """
+    wall = _time.perf_counter()
+    s = task["settings"]
+    try:
+        model = task["scene"].build(task["point"])
+    except ParameterError as err:  # values this point's model refuses: a result, not a crash
+        return _refused(task, f"the model refused the point's parameters: {err}", wall)
+    system = model.compile(backend=s["backend"])
+    limits = _runaway_limits(model, s["runaway_limit"])
+    status, message, when = "ok", "", None
+    bound = min((limit for _, limit in limits), default=None)
+    from ..simulate import simulate
+
+    try:
+        result, err = simulate(system, (0.0, s["t_end"]), bound=bound, **s["simulate_options"]), None
+    except SimulationError as exc:
+        result, err = exc.partial, exc
+    sim_time = _time.perf_counter() - wall
+    if err is not None:
+        status, message, when = "failed", str(err), err.time
+        if "run-away" in str(err).splitlines()[0]:
+            status = "runaway"
+    sampled = result is not None and result.t.size > 0
+    max_disp, limit = None, bound
+    if sampled:
+        radial = np.vstack([_radial(result, st) for st in model.stations])
+        finite = radial[np.isfinite(radial)]
+        max_disp = float(finite.max()) if finite.size else None
+        if status == "ok" and not np.all(np.isfinite(result.y)):
+            bad = int(np.argmax(~np.all(np.isfinite(result.y), axis=0)))
+            status, message, when = "failed", f"non-finite states from t = {result.t[bad]:.6g} s", float(result.t[bad])
+    runaway = _first_runaway(result, limits) if sampled else None
+    if runaway is not None:
+        at, station, peak, limit = runaway
+        how = f" before the integration failed ({message.splitlines()[0]})" if status == "failed" else ""
+        why = " (10 x its rub clearance)" if s["runaway_limit"] is None else ""
+        status, when = "runaway", float(result.t[at])
+        message = (f"station {station} passed the runaway limit {limit:.3g} m{why} at t = {when:.4g} s and reached "
+                   f"{peak:.3g} m{how}: the response ran away (e.g. dry-friction whirl at high friction); no spectrum")
+    signals, orders, n_rev = s["signals"], s["orders"], s["poincare_revolutions"]
+    frequency = np.empty(0)
+    amplitude = np.empty((len(signals), 0))
+    order_amp = np.full((len(signals), len(orders)), np.nan)
+    poincare = np.full((len(s["poincare_signals"]), n_rev), np.nan)
+    spectrum_info, energy = None, float("nan")
+    speeds = rotor_speeds(model)
+    if status == "ok":
+        rows = []
+        freqs = [order_frequency(parse_order(o, list(speeds)), speeds) for o in orders]
+        for i, name in enumerate(signals):
+            spectrum = result.spectrum(name, tuple(s["window"]), s["highpass_hz"])
+            frequency = spectrum.frequency
+            rows.append(spectrum.amplitude)
+            if freqs:
+                from ..analysis.signals import find_peaks
+
+                peaks = find_peaks(spectrum, min_relative_height=1e-6, max_peaks=500)
+                order_amp[i] = [_order_amplitude(spectrum, peaks, f) for f in freqs]
+            spectrum_info = {"taper": spectrum.taper, "n_samples": spectrum.n_samples, "n_fft": spectrum.n_fft}
+        amplitude = np.vstack(rows)
+        reference = speeds[s["poincare_rotor"]] if s["poincare_rotor"] else next(iter(speeds.values()), 0.0)
+        for i, name in enumerate(s["poincare_signals"]):
+            poincare[i] = poincare_samples(result, name, s["window"], reference, n_rev)
+        if s["energy"]:
+            energy = _energy_residual(model, result)
+    stats = {k: v for k, v in (result.stats if result is not None else {}).items()
+             if isinstance(v, (bool, int, float, str)) or v is None}
+    stats.update(point_wall_time=_time.perf_counter() - wall, simulate_wall_time=sim_time, pid=os.getpid())
+    meta = {"index": task["index"], "point": task["point"], "status": status, "time": when,
+            "max_displacement": max_disp, "runaway_limit": limit, "message": message, "spectrum": spectrum_info,
+            "energy_residual": energy, "stats": stats}
+    return {"index": task["index"], "meta": meta,
+            "arrays": {"frequency": frequency, "amplitude": amplitude, "order_amplitude": order_amp,
+                       "poincare": poincare}}
