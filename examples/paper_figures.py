@@ -29,7 +29,7 @@ import rotorkit as rk
 from rotorkit.analysis.loads import maneuver_load
 from rotorkit.analysis.signals import highpass, stft
 from rotorkit.plotting.spectra import plot_cascade, plot_spectrogram, plot_waterfall, speed_orders
-from rotorkit.sweep import run_sweep
+from rotorkit.sweep import Cascade, run_sweep
 
 SIGNALS = {"bending": ("x2", 1e6, "x2 (µm)"), "torsion": ("alpha2-alpha5", 1e6, "alpha2 - alpha5 (µrad)")}
 
@@ -100,8 +100,8 @@ def fig16(out, **_):
 def cascades(out, name, title, parameter, values, orders, workers):
     from matplotlib.figure import Figure
 
-    cascade = run_sweep("al31f", parameter, values, out_dir=out / f"sweep-{parameter}", workers=workers,
-                        progress=lambda done, total, value, status: print(f"  {parameter} = {value:g}: {status}"))
+    cascade = Cascade.from_dataset(run_sweep("al31f", parameter, values, out_dir=out / f"sweep-{parameter}",
+                                             workers=workers, progress=lambda event: print(f"  {event}")))
     fig = Figure(figsize=(13, 5.5), layout="constrained")
     for k, (role, (signal, scale, label)) in enumerate(SIGNALS.items()):
         ax = fig.add_subplot(1, 2, k + 1, projection="3d")

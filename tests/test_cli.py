@@ -97,10 +97,40 @@ def test_sweep_command_draws_cascades_and_resumes(tmp_path, capsys):
     assert main(args) == 0
     first = capsys.readouterr()
     assert "2 points: 2 ok" in first.out and first.err.count(": ok") == 2
-    for name in ("cascade_x2.png", "cascade_alpha2_minus_alpha5.png", "sweep.json"):
+    for name in ("cascade_x2.png", "cascade_alpha2_minus_alpha5.png", "bifurcation_x2.png", "sweep.json",
+                 "sweep.nc"):
         assert (tmp_path / name).stat().st_size > 0
     assert main(args) == 0  # resumes: nothing recomputed
     assert capsys.readouterr().err.count(": cached") == 2
+
+
+def test_sweep_command_maps_a_grid(tmp_path, capsys):
+    import xarray as xr
+
+    args = ["sweep", "al31f", "--param", "rub_stiffness=2e6,8e6", "--param", "friction_coefficient=0,0.1",
+            "--order", "1", "--order", "1/2", "--t-end", "0.3", "--window", "0.1", "0.3", "--workers", "1",
+            "--out", str(tmp_path)]
+    assert main(args) == 0
+    out = capsys.readouterr()
+    assert "4 points: 4 ok" in out.out and out.err.count("[4/4]") == 1
+    for name in ("status_map.png", "map_x2_order_1.png", "map_x2_order_1_2.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    with xr.open_dataset(tmp_path / "sweep.nc") as ds:
+        assert ds.order_amplitude.dims == ("rub_stiffness", "friction_coefficient", "signal", "order")
+        assert ds.rub_stiffness.attrs["units"] == "N/m" and ds.frequency.attrs["units"] == "rad/s"
+        assert list(ds.order.values) == ["1", "1/2"]
+
+
+@pytest.mark.parametrize("args, match", [
+    (["--param", "rub_stiffness=1:2:3", "--param", "rub_stiffness=1,2"], "twice"),
+    (["--param", "rub_stiffness=1:2:3", "--param", "friction_coefficient=0,0.1", "--zip"], "one length"),
+    (["--param", "rub_stiffness=1:2:1000000"], "1,000,000 points"),
+    (["--param", "rub_stiffness=1:2:1000", "--param", "lp_speed=1:2:1000"], "1,000,000 points"),
+    (["--param", "rub_stiffness=1:2:3", "--scheduler", "tcp://127.0.0.1:9"], "cannot reach the Dask scheduler"),
+])
+def test_sweep_command_errors(args, match, tmp_path, capsys):
+    assert main(["sweep", "al31f", *args, "--t-end", "0.3", "--window", "0.1", "0.3", "--out", str(tmp_path)]) == 2
+    assert match in capsys.readouterr().err
 
 
 def test_sweep_rejects_an_unknown_parameter(capsys):
