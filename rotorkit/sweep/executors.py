@@ -211,8 +211,11 @@ def worker_versions():
     return {"rotorkit": rotorkit.__version__, "python": "%d.%d" % sys.version_info[:2]}
 
 
-def check_worker_versions(client, timeout=10.0):
-    """Raise if the cluster has no worker within ``timeout`` s or a worker runs another rotorkit or Python."""
+def check_worker_versions(client, timeout=10.0, local=None):
+    """Raise if the cluster has no worker within ``timeout`` s or a worker runs another rotorkit or Python.
+
+    ``local``: the versions to compare with (default :func:`worker_versions` of this process).
+    """
     try:
         client.wait_for_workers(1, timeout=timeout)
     except Exception as exc:  # distributed raises its own TimeoutError
@@ -220,7 +223,7 @@ def check_worker_versions(client, timeout=10.0):
             f"the Dask scheduler at {client.scheduler.address} has no workers after {timeout:g} s ({exc}); "
             f"start some with 'dask worker {client.scheduler.address}'"
         ) from None
-    local = worker_versions()
+    local = worker_versions() if local is None else local
     found = client.run(worker_versions)
     wrong = {addr: v for addr, v in found.items() if v != local}
     if wrong:
