@@ -133,6 +133,26 @@ def test_sweep_command_errors(args, match, tmp_path, capsys):
     assert match in capsys.readouterr().err
 
 
+def test_sweep_command_takes_a_model_file(tmp_path, capsys):
+    import xarray as xr
+
+    from sweep_models import build_jeffcott, unbalance_amplitude
+
+    path = tmp_path / "jeffcott.toml"
+    build_jeffcott(rub_stiffness=0.0).save(path)
+    args = ["sweep", str(path), "--param", "disk1_eccentricity=1e-5,2e-5", "--t-end", "0.5", "--window", "0.2",
+            "0.5", "--workers", "1", "--order", "1", "--out", str(tmp_path / "out")]
+    assert main(args) == 0
+    assert "2 points: 2 ok" in capsys.readouterr().out
+    with xr.open_dataset(tmp_path / "out" / "sweep.nc") as ds:
+        assert list(ds.signal.values) == ["x1"] and ds.disk1_eccentricity.attrs["units"] == "m"
+        for e in (1e-5, 2e-5):
+            got = float(ds.order_amplitude.sel(disk1_eccentricity=e, signal="x1", order="1"))
+            assert got == pytest.approx(unbalance_amplitude(e), rel=2e-3)
+    assert main(["sweep", str(path), "--param", "disk1_eccentricty=1,2"]) == 2
+    assert "did you mean disk1_eccentricity" in capsys.readouterr().err
+
+
 def test_sweep_rejects_an_unknown_parameter(capsys):
     assert main(["sweep", "al31f", "--param", "rub_stifness=1:2:3"]) == 2
     assert "did you mean rub_stiffness" in capsys.readouterr().err

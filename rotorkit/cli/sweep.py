@@ -23,6 +23,9 @@ def register(sub):
     sw.add_argument("--seed", type=int, default=0, help="seed of the Latin hypercube (default 0)")
     sw.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="override a preset parameter for every point")
+    sw.add_argument("--signal", action="append", metavar="SIGNAL",
+                    help="signal whose spectrum and orders are stored (x2, alpha2-alpha5); repeatable; default the "
+                         "scene's bending and torsion outputs, else x of the first station")
     sw.add_argument("--order", action="append", default=[], metavar="ORDER",
                     help="store the peak amplitude of a speed order: 1/2, 1, 3/2 (of the first rotor), "
                          "'HP - LP', '1/2 LP'; repeatable")
@@ -90,7 +93,7 @@ def main(args):
 
     kwargs = {"t_end": args.t_end} if args.t_end is not None else {}
     ds = run_sweep(scene, space, out_dir=out, overrides=overrides, workers=args.workers,
-                   scheduler=args.scheduler, progress=progress, orders=args.order, poincare=args.poincare,
+                   scheduler=args.scheduler, progress=progress, orders=args.order, signals=args.signal, poincare=args.poincare,
                    window=tuple(args.window), energy=args.energy, max_points=args.max_points, **kwargs)
     written = []
     dims = list(ds.status.dims)

@@ -239,6 +239,8 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
         where = ", ".join(f"{k} = {v:g}" for k, v in first.items())
         raise type(err)(f"sweep point {where}: {err}") from err
     default_signals = [outputs[k] for k in ("bending", "torsion") if outputs.get(k)]
+    if not default_signals and scene.kind == "model" and model.stations:
+        default_signals = [f"x{model.stations[0]}"]  # a model without run settings: bending of its first station
     signals = _check_signals(signals, default_signals, model, f"scene {scene.display!r}")
     poincare = signals if poincare is None else _check_signals(poincare, [], model, scene.display, "poincare")
     if isinstance(orders, str):
