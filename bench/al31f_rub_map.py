@@ -5,7 +5,7 @@ point a 4 s run (spectra and orders over 2.2-3.8 s). Stores the 1/2, 1 and
 3/2 LP orders and HP - LP, Poincare samples of x2, and draws the 1/2-order
 map and the status map (where the response ran away).
 
-    PYTHONPATH=. python examples/al31f_rub_map.py OUT [--scheduler tcp://HOST:8786] [--workers N]
+    PYTHONPATH=. python bench/al31f_rub_map.py OUT [--scheduler tcp://HOST:8786] [--workers N]
 
 Cost: about 1,000 x the cost of one preset point (see bench/sweep_overhead.py
 for that cost on your machine); on 2 local cores expect hours, not minutes;
