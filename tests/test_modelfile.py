@@ -239,3 +239,17 @@ def test_sweep_and_set_give_the_same_did_you_mean(capsys):
     setting = capsys.readouterr().err
     hint = "'rub_stifness' is not a parameter of al31f; did you mean rub_stiffness"
     assert hint in sweep and hint in setting
+
+
+def test_model_file_without_run_table_draws_the_first_disk(tmp_path):
+    from types import SimpleNamespace
+
+    from rotorkit.cli.common import load_scene
+
+    model = rk.Model([rk.Rotor(name="R", stations=(0, 1), speed=300.0), rk.LumpedMass(station=0, mass=1.0),
+                      rk.Disk(station=1, mass=2.0, radius=0.1), rk.ElasticSupport(station=0, stiffness=2e4),
+                      rk.ShaftSegment(start=0, end=1, bending_stiffness=1e5)])
+    args = SimpleNamespace(preset=str(model.save(tmp_path / "two.toml")), set=["R_speed=100 rad/s"])
+    scene, loaded, overrides = load_scene(args)
+    assert scene.OUTPUTS == {"orbit_station": 1, "bending": "x1"} and args.preset == "two"
+    assert loaded.parameters["R_speed"] == 100.0 and set(overrides) == {"R_speed"}
