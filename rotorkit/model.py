@@ -7,7 +7,7 @@ from collections import defaultdict
 
 import sympy as sp
 
-from .elements import BallBearing, Disk, Element, ElasticSupport, LumpedMass, Maneuver, Rotor, RubStator, ShaftSegment
+from .elements.base import AXES, Element
 from .errors import ParameterError, TopologyError
 from .units import to_si
 
@@ -19,6 +19,13 @@ FORMAT_VERSION = "4"
 
 class Model:
     """A rotor system assembled from elements.
+
+    The model only gathers: it knows no concrete element type. Each element
+    declares the coordinates it creates, needs, gives inertia to and ties
+    elastically (see :mod:`rotorkit.elements.base`) and checks its own
+    attachments; the model orders the coordinates, checks generically that
+    each one has inertia and an elastic path to the ground, and collects the
+    effects the elements bring.
 
     Parameters
     ----------
@@ -32,9 +39,11 @@ class Model:
     Raises
     ------
     TopologyError
-        Unknown or duplicate stations, a station without mass, a rotor with
-        no support, a bearing within one rotor, a torsional coordinate with
-        no torsional stiffness path.
+        Unknown or duplicate stations, a coordinate without inertia (a
+        station without mass), a rotor with no support, a torsional or tilt
+        coordinate with no stiffness path, a coordinate an element needs
+        but no element creates, and each element's own rules (a bearing
+        within one rotor, ...).
 
     Examples
     --------
@@ -58,20 +67,21 @@ class Model:
         self.name = name
         self.elements = elements
         self._check_labels()
-        self.rotors = {e.name: e for e in elements if isinstance(e, Rotor)}
+        self.rotors = {e.label(): e for e in elements if e.owned_stations()}
         self._station_rotor = self._map_stations()
-        self._check_speeds()
         self._check_attachments()
-        self.disks = {e.station: e for e in elements if isinstance(e, Disk)}
-        self.torsion_stations = tuple(s for s in self.stations if s in self.disks and self.disks[s].torsion)
-        self._check_masses()
-        self._check_elements()
-        self._check_bending_support()
-        self._check_torsion_paths()
-        self.coordinate_names = tuple(
-            [f"x{s}" for s in self.stations] + [f"y{s}" for s in self.stations]
-            + [f"alpha{s}" for s in self.torsion_stations]
-        )
+        self._by_station = defaultdict(list)
+        for e in elements:
+            for s in dict.fromkeys(e.attached_stations()):
+                self._by_station[s].append(e)
+        self.coordinates, self._creators = self._gather_coordinates()
+        self._coordinate_set = set(self.coordinates)
+        self.coordinate_names = tuple(f"{axis}{station}" for station, axis in self.coordinates)
+        self._check_required()
+        for e in elements:
+            e.check(self)
+        self._check_inertia()
+        self._check_stiffness_paths()
         self._check_symbol_names()
 
     # -- topology -------------------------------------------------------
@@ -83,6 +93,24 @@ class Model:
     def rotor_of(self, station):
         """The :class:`Rotor` a station belongs to."""
         return self._station_rotor[station]
+
+    def elements_at(self, station):
+        """The elements attached to ``station``, in model order."""
+        return tuple(self._by_station.get(station, ()))
+
+    def has_coordinate(self, station, axis):
+        """Whether the model has the coordinate ``<axis><station>``."""
+        return (station, axis) in self._coordinate_set
+
+    @property
+    def torsion_stations(self):
+        """Stations with a torsional coordinate ``alpha``."""
+        return tuple(s for s, axis in self.coordinates if axis == "alpha")
+
+    @property
+    def tilt_stations(self):
+        """Stations with tilt coordinates ``thx``, ``thy``."""
+        return tuple(s for s, axis in self.coordinates if axis == "thx")
 
     def _check_labels(self):
         seen = {}
@@ -100,7 +128,7 @@ class Model:
             raise TopologyError("Model: no Rotor given; add Rotor(name=..., stations=..., speed=...)")
         mapping = {}
         for rotor in self.rotors.values():
-            for s in rotor.stations:
+            for s in rotor.owned_stations():
                 if s in mapping:
                     raise TopologyError(
                         f"Model: station {s!r} is on rotor {mapping[s].name!r} and rotor {rotor.name!r}; "
@@ -109,123 +137,88 @@ class Model:
                 mapping[s] = rotor
         return mapping
 
-    def _check_speeds(self):
-        for rotor in self.rotors.values():
-            seen, r = [rotor.name], rotor
-            while r.speed is None:
-                if r.reference not in self.rotors:
-                    raise TopologyError(
-                        f"Rotor {r.name!r}: reference={r.reference!r} is not a rotor of the model "
-                        f"(rotors: {sorted(self.rotors)})"
-                    )
-                r = self.rotors[r.reference]
-                if r.name in seen:
-                    raise TopologyError(f"Rotor speeds refer to each other in a loop: {seen + [r.name]}")
-                seen.append(r.name)
-
     def _check_attachments(self):
         for e in self.elements:
-            for s in e.attached_stations():
+            pairs = tuple(e.coordinates()) + tuple(e.requires())
+            for s in tuple(e.attached_stations()) + tuple(s for s, _ in pairs):
                 if s not in self._station_rotor:
                     raise TopologyError(
                         f"{type(e).__name__} {e.label()!r}: station {s!r} is not on any rotor "
                         f"(known stations: {list(self._station_rotor)})"
                     )
+            for _, axis in pairs:
+                if not isinstance(axis, str) or not axis.isidentifier():
+                    raise TopologyError(f"{type(e).__name__} {e.label()!r}: coordinate axis {axis!r} must be an "
+                                        f"identifier such as {AXES}")
 
-    def _check_masses(self):
-        mass_stations = defaultdict(list)
+    def _gather_coordinates(self):
+        creators = defaultdict(list)
+        extra_axes = []
         for e in self.elements:
-            if isinstance(e, (Disk, LumpedMass)):
-                mass_stations[e.station].append(e)
-        for s, items in mass_stations.items():
-            if sum(isinstance(e, Disk) for e in items) > 1:
-                raise TopologyError(f"Model: station {s!r} has more than one Disk; merge them into one")
-        for s in self.stations:
-            if s not in mass_stations:
+            for pair in e.coordinates():
+                creators[pair].append(e)
+                if pair[1] not in AXES and pair[1] not in extra_axes:
+                    extra_axes.append(pair[1])
+        axis_rank = {a: i for i, a in enumerate(AXES + tuple(extra_axes))}
+        station_rank = {s: i for i, s in enumerate(self._station_rotor)}
+        ordered = sorted(creators, key=lambda pair: (axis_rank[pair[1]], station_rank[pair[0]]))
+        return tuple(ordered), dict(creators)
+
+    def _check_required(self):
+        for e in self.elements:
+            missing = [p for p in e.requires() if p not in self._coordinate_set]
+            if missing:
+                names = ", ".join(f"{a}{s}" for s, a in missing)
+                tilt = any(a in ("thx", "thy") for _, a in missing)
+                hint = ("tilt coordinates come from elements that bend with slope, e.g. a beam ShaftSegment "
+                        "at that station" if tilt else "add an element that creates them")
                 raise TopologyError(
-                    f"Model: station {s!r} (rotor {self.rotor_of(s).name!r}) has no mass, so its equations "
-                    "are singular; add LumpedMass(station=..., mass=...) or a Disk there"
+                    f"{type(e).__name__} {e.label()!r}: needs the coordinates {names}, which the model does not "
+                    f"have; {hint}"
                 )
-        self._mass_elements = mass_stations
 
-    def _check_elements(self):
-        maneuvers = [e for e in self.elements if isinstance(e, Maneuver)]
-        if len(maneuvers) > 1:
-            raise TopologyError("Model: more than one Maneuver; a scene has one load field (gravity included)")
-        for e in self.elements:
-            if isinstance(e, ShaftSegment):
-                ra, rb = self.rotor_of(e.start), self.rotor_of(e.end)
-                if ra is not rb:
-                    raise TopologyError(
-                        f"ShaftSegment {e.label()!r}: stations {e.start!r} (rotor {ra.name!r}) and {e.end!r} "
-                        f"(rotor {rb.name!r}) are on different rotors; couple rotors with a BallBearing"
-                    )
-                if e.has_torsion() and not {e.start, e.end} & set(self.torsion_stations):
-                    raise TopologyError(
-                        f"ShaftSegment {e.label()!r}: torsional stiffness between stations with no torsional "
-                        "coordinate has no effect; give a Disk at one end torsion=True, or drop the torsion"
-                    )
-            if isinstance(e, BallBearing):
-                ri, ro = self.rotor_of(e.inner_station), self.rotor_of(e.outer_station)
-                if ri is ro:
-                    raise TopologyError(
-                        f"BallBearing {e.label()!r}: inner_station {e.inner_station!r} and outer_station "
-                        f"{e.outer_station!r} are both on rotor {ri.name!r}; an inter-rotor bearing joins "
-                        "stations of two different rotors"
-                    )
-            if isinstance(e, RubStator) and e.station in self.torsion_stations and e.contact_radius is None:
-                if self.disks[e.station].radius is None:
-                    raise TopologyError(
-                        f"RubStator {e.label()!r}: the disk at station {e.station!r} has no radius for the "
-                        "friction torque; give contact_radius=... (m)"
-                    )
+    def _fail(self, problem, failing):
+        """Raise for the first failing coordinate, explained by the element that created it."""
+        first = failing[0]
+        creator = self._creators[first][0]
+        mine = [p for p in failing if creator in self._creators[p]]
+        message = creator.explain(self, problem, mine)
+        if message is None:
+            names = ", ".join(f"{a}{s}" for s, a in mine)
+            what = ("no element gives them mass or inertia, so the mass matrix is singular" if problem == "inertia"
+                    else "no elastic path to a support, so they would drift freely")
+            message = f"{type(creator).__name__} {creator.label()!r}: coordinates {names}: {what}"
+        raise TopologyError(message)
 
-    def _check_bending_support(self):
-        neighbours = defaultdict(set)
-        grounded = set()
+    def _check_inertia(self):
+        given = set()
         for e in self.elements:
-            if isinstance(e, ShaftSegment) and e.has_bending():
-                neighbours[e.start].add(e.end)
-                neighbours[e.end].add(e.start)
-            elif isinstance(e, BallBearing):
-                neighbours[e.inner_station].add(e.outer_station)
-                neighbours[e.outer_station].add(e.inner_station)
-            elif isinstance(e, ElasticSupport):
-                grounded.add(e.station)
-        reached, todo = set(grounded), list(grounded)
+            given.update(e.inertia())
+        failing = [p for p in self.coordinates if p not in given]
+        if failing:
+            self._fail("inertia", failing)
+
+    def _check_stiffness_paths(self):
+        """Every coordinate has an elastic path to the ground (or to a prescribed motion)."""
+        links = defaultdict(set)
+        reached = set()
+        for e in self.elements:
+            for group in e.stiffness_links():
+                group = tuple(group)
+                present = [p for p in group if p in self._coordinate_set]
+                if len(present) < len(group):  # tied to a prescribed motion (e.g. the drive)
+                    reached.update(present)
+                for a in present:
+                    links[a].update(present)
+            reached.update(p for p in e.grounds() if p in self._coordinate_set)
+        todo = list(reached)
         while todo:
-            for n in neighbours[todo.pop()] - reached:
+            for n in links[todo.pop()] - reached:
                 reached.add(n)
                 todo.append(n)
-        for rotor in self.rotors.values():
-            loose = [s for s in rotor.stations if s not in reached]
-            if loose:
-                what = "has no support" if len(loose) == len(rotor.stations) else f"has stations {loose} with no stiffness path to a support"
-                raise TopologyError(
-                    f"Rotor {rotor.name!r} {what}: it would drift freely; add an ElasticSupport, a "
-                    "ShaftSegment with bending stiffness, or a BallBearing to a supported rotor"
-                )
-
-    def _check_torsion_paths(self):
-        links = defaultdict(set)
-        for e in self.elements:
-            if isinstance(e, ShaftSegment) and e.has_torsion():
-                links[e.start].add(e.end)
-                links[e.end].add(e.start)
-        torsion = set(self.torsion_stations)
-        for s in self.torsion_stations:
-            reached, todo = {s}, [s]
-            while todo:
-                for n in links[todo.pop()] - reached:
-                    reached.add(n)
-                    if n in torsion:
-                        todo.append(n)
-            if not reached - torsion:
-                raise TopologyError(
-                    f"Disk at station {s!r} has torsion=True but no torsional stiffness path to the drive "
-                    "(a station without torsional coordinate); add a ShaftSegment with torsional_stiffness "
-                    "(or shear_modulus, polar_area_moment, length) from it towards the drive"
-                )
+        failing = [p for p in self.coordinates if p not in reached]
+        if failing:
+            self._fail("support", failing)
 
     def _check_symbol_names(self):
         """Names are glued from labels, fields and stations: they must not collide."""
@@ -296,24 +289,14 @@ class Model:
     def effects(self):
         """The effects this model holds (only these contribute terms and states)."""
         out = set()
-        if any(d.eccentricity is not None for d in self.disks.values()):
-            out.add("unbalance")
-        if self.torsion_stations:
-            out.add("torsion")
         for e in self.elements:
-            if isinstance(e, RubStator):
-                out.add("rub")
-            elif isinstance(e, BallBearing):
-                out.add("bearing_nonlinearity")
-            elif isinstance(e, Maneuver):
-                out.add("gravity" if e.kind == "steady" else "maneuver")
-                if e.kind == "barrel_roll" and e.gravity:
-                    out.add("gravity")
+            out |= set(e.effects())
         return frozenset(out)
 
     def masses(self):
-        """(station, [mass elements]) in station order."""
-        return [(s, self._mass_elements[s]) for s in self.stations]
+        """(station, [point-mass elements]) in station order: elements with a ``mass`` giving x inertia there."""
+        return [(s, [e for e in self.elements_at(s) if (s, "x") in e.inertia() and getattr(e, "mass", None) is not None])
+                for s in self.stations]
 
     def time_event_parameters(self):
         """Names of parameters whose values are times at which the equations jump."""
@@ -323,8 +306,7 @@ class Model:
         """Event times that are fixed numbers (not parameters)."""
         out = []
         for e in self.elements:
-            if isinstance(e, Maneuver):
-                out.extend(e.fixed_time_events())
+            out.extend(e.fixed_time_events())
         return tuple(out)
 
     @property
@@ -384,10 +366,14 @@ class Context:
         return ctx
 
     def coord(self, station, axis, drive=False):
-        """(q, q') symbols of a station's ``"x"``, ``"y"`` or ``"alpha"`` coordinate.
+        """(q, q') symbols of a station's coordinate.
 
-        With ``drive=True`` a missing torsional coordinate gives ``(0, 0)``:
-        the station turns exactly at the rotor speed.
+        ``axis`` is ``"x"``, ``"y"`` (lateral displacement, m), ``"alpha"``
+        (torsion angle about +z, rad), ``"thx"``, ``"thy"`` (small rotations
+        of the cross-section about +x and +y, rad; ``thy = dx/dz``,
+        ``thx = -dy/dz``) or any axis an element created. With
+        ``drive=True`` a missing torsional coordinate gives ``(0, 0)``: the
+        station turns exactly at the rotor speed.
         """
         name = f"{axis}{station}"
         if name not in self._symbols.coordinates:
@@ -405,16 +391,31 @@ class Context:
             rotor = self.model.rotors[rotor.reference]
         return expr * self._symbols.parameter(f"{rotor.name}_speed")
 
+    def parameter(self, element, field_name):
+        """The parameter symbol of another element's field."""
+        return self._symbols.parameter(f"{element.label()}_{field_name}")
+
+    def rigid_body_masses(self):
+        """Coordinate symbol -> ``(Q_x, Q_y)`` summed over all elements (see ``Element.rigid_body_mass``)."""
+        out = {}
+        for e in self.model.elements:
+            for q, (qx, qy) in e.rigid_body_mass(self.bind(e)).items():
+                if q in out:
+                    out[q] = (out[q][0] + qx, out[q][1] + qy)
+                else:
+                    out[q] = (qx, qy)
+        return out
+
     def masses(self):
-        """(station, total mass expression) for every station."""
+        """(station, total point-mass expression) for every station."""
         out = []
         for station, items in self.model.masses():
             out.append((station, sum(self._symbols.parameter(f"{e.label()}_mass") for e in items)))
         return out
 
     def disk_radius(self, station):
-        """Radius symbol of the disk at ``station``."""
-        disk = self.model.disks.get(station)
-        if disk is None or disk.radius is None:
-            raise TopologyError(f"station {station!r} has no disk with a radius")
-        return self._symbols.parameter(f"{disk.label()}_radius")
+        """Radius symbol of the element at ``station`` that has a ``radius`` (a disk)."""
+        for e in self.model.elements_at(station):
+            if getattr(e, "radius", None) is not None and "radius" in e.parameters():
+                return self._symbols.parameter(f"{e.label()}_radius")
+        raise TopologyError(f"station {station!r} has no disk with a radius")

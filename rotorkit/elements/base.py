@@ -1,15 +1,52 @@
-"""The element contract: small frozen dataclasses that contribute energy terms.
+"""The element contract: small frozen dataclasses that declare what they need and contribute energy terms.
 
 An element holds physics only (SI floats after construction). The model
-gives it a :class:`Context` (coordinates, time, rotor speeds, its own
-parameter symbols) and the element returns :class:`Terms`: kinetic energy,
-potential energy, Rayleigh dissipation and generalised forces. Lagrange's
-equations are linear in these, so the model derives each element's
-contribution on its own and adds them up.
+gathers; it knows no concrete element type. Each element answers:
 
-To add an element type: subclass :class:`Element` in a new module of this
-package, declare ``_units`` (field -> (SI unit, sign rule)), and implement
-``attached_stations``, ``contribute`` and, if it switches in time, ``time_events``.
+- :meth:`Element.attached_stations`: the stations it attaches to;
+- :meth:`Element.coordinates`: the generalised coordinates it *creates*, as
+  ``(station, axis)`` pairs (a rotor creates ``x``/``y`` at its stations, a
+  torsional disk ``alpha``, a beam element the tilts ``thx``/``thy``);
+- :meth:`Element.requires`: coordinates it needs but does not create (a
+  moment spring needs tilts someone else made);
+- :meth:`Element.inertia`: coordinates it gives mass or inertia to;
+- :meth:`Element.stiffness_links` and :meth:`Element.grounds`: the
+  coordinates it ties together elastically, or to the ground;
+- :meth:`Element.check`: its own topology rules, given the whole model;
+- :meth:`Element.effects`: the effects it brings (``"rub"``, ``"gravity"``...);
+- :meth:`Element.contribute`: its :class:`Terms` (kinetic and potential
+  energy, Rayleigh dissipation, generalised forces), given a context
+  (coordinates, time, rotor speeds, its own parameter symbols);
+- :meth:`Element.rigid_body_mass`: the generalised forces a uniform
+  acceleration field puts on its coordinates (used by gravity and manoeuvres).
+
+The model checks generically that every coordinate has inertia (else the
+mass matrix is singular) and an elastic path to the ground (else the rotor
+drifts), and asks the element that created a failing coordinate to explain
+(:meth:`Element.explain`). Lagrange's equations are linear in T, V, D and Q,
+so each element's contribution is derived on its own and the results added.
+
+Coordinates and sign convention
+-------------------------------
+The frame is right-handed with ``z`` along the undeflected shaft axis
+(increasing with the axial position of the stations) and ``y`` up. At a
+station ``s``:
+
+- ``x<s>``, ``y<s>``: lateral displacements of the shaft centre (m);
+- ``alpha<s>``: torsional angle about ``+z`` on top of the rotor's spin
+  angle ``Omega t`` (rad);
+- ``thx<s>``, ``thy<s>``: small rotations (rad) of the cross-section about
+  ``+x`` and ``+y`` (right-hand rule). For a bending line ``x(z), y(z)``:
+  ``thy = +dx/dz`` and ``thx = -dy/dz``.
+
+A station has ``x``/``y`` always (from its rotor), ``alpha`` and the tilts
+only when an element creates them. Coordinates are ordered by axis
+(``x``, ``y``, ``alpha``, ``thx``, ``thy``, then any other axis in order of
+first declaration), then by station in model order.
+
+To add an element type: subclass :class:`Element` in a new module, declare
+``_units`` (field -> (SI unit, sign rule)), and implement ``contribute`` and
+the declarations that apply; nothing else in the package changes.
 """
 
 from dataclasses import dataclass, field
@@ -20,7 +57,10 @@ import sympy as sp
 from ..errors import ParameterError
 from ..units import to_si
 
-__all__ = ["Element", "Terms"]
+__all__ = ["Element", "Terms", "AXES"]
+
+#: the standard coordinate axes, in coordinate order
+AXES = ("x", "y", "alpha", "thx", "thy")
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,6 +143,68 @@ class Element:
 
     def attached_stations(self) -> tuple:
         """The stations this element attaches to."""
+        return ()
+
+    def owned_stations(self) -> tuple:
+        """The stations this element defines (a rotor's stations); each station has one owner."""
+        return ()
+
+    def coordinates(self) -> tuple:
+        """``(station, axis)`` pairs of the coordinates this element creates."""
+        return ()
+
+    def requires(self) -> tuple:
+        """``(station, axis)`` pairs this element needs but does not create."""
+        return ()
+
+    def inertia(self) -> tuple:
+        """``(station, axis)`` pairs this element gives mass or inertia to.
+
+        May name coordinates the model does not have (they are ignored).
+        """
+        return ()
+
+    def stiffness_links(self) -> tuple:
+        """Groups of ``(station, axis)`` pairs this element ties together elastically.
+
+        A pair the model has no coordinate for is a prescribed motion (a
+        station without ``alpha`` turns with the drive): linking to it ties
+        the others to the ground.
+        """
+        return ()
+
+    def grounds(self) -> tuple:
+        """``(station, axis)`` pairs this element ties elastically to the ground."""
+        return ()
+
+    def check(self, model) -> None:
+        """Check this element's attachments in ``model``; raise TopologyError (override)."""
+
+    def explain(self, model, problem, coordinates) -> str | None:
+        """Why coordinates this element created fail a model check, or None for the generic message.
+
+        ``problem`` is ``"inertia"`` (no element gives them mass) or
+        ``"support"`` (no elastic path to the ground); ``coordinates`` lists
+        the failing ``(station, axis)`` pairs of this element.
+        """
+        return None
+
+    def effects(self) -> frozenset:
+        """The effects this element brings (``"rub"``, ``"gravity"``, ...)."""
+        return frozenset()
+
+    def rigid_body_mass(self, ctx) -> dict:
+        """Coordinate symbol -> ``(Q_x, Q_y)``: generalised forces per unit uniform acceleration.
+
+        For an element with mass matrix M and rigid translation vectors
+        ``r_x``, ``r_y``: ``M r_x`` and ``M r_y``. A uniform acceleration field
+        ``(a_x, a_y)`` (gravity, manoeuvre) loads coordinate ``q`` with
+        ``Q_x a_x + Q_y a_y``.
+        """
+        return {}
+
+    def fixed_time_events(self) -> tuple:
+        """Event times that are fixed numbers, not parameters (s)."""
         return ()
 
     def parameters(self) -> dict[str, float]:

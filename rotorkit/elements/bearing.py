@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from ..symbolic.functions import ramp
 from .base import Element, Terms
 from .rotor import check_station
@@ -107,6 +107,22 @@ class BallBearing(Element):
 
     def _default_label(self):
         return f"bearing{self.inner_station}_{self.outer_station}"
+
+    def stiffness_links(self):
+        i, o = self.inner_station, self.outer_station
+        return (((i, "x"), (o, "x")), ((i, "y"), (o, "y")))
+
+    def effects(self):
+        return frozenset({"bearing_nonlinearity"})
+
+    def check(self, model):
+        ri, ro = model.rotor_of(self.inner_station), model.rotor_of(self.outer_station)
+        if ri is ro:
+            raise TopologyError(
+                f"BallBearing {self.label()!r}: inner_station {self.inner_station!r} and outer_station "
+                f"{self.outer_station!r} are both on rotor {ri.name!r}; an inter-rotor bearing joins "
+                "stations of two different rotors"
+            )
 
     def cage_speed(self, ctx):
         """Cage speed omega_c as an expression of the rotor speeds."""

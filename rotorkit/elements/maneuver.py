@@ -5,7 +5,7 @@ from typing import Callable
 
 import sympy as sp
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from ..symbolic.functions import window
 from .base import Element, Terms
 
@@ -121,6 +121,16 @@ class Maneuver(Element):
         """Event times that are not parameters (profiles)."""
         return self.event_times
 
+    def effects(self):
+        out = {"gravity" if self.kind == "steady" else "maneuver"}
+        if self.kind == "barrel_roll" and self.gravity:
+            out.add("gravity")
+        return frozenset(out)
+
+    def check(self, model):
+        if sum(isinstance(e, Maneuver) for e in model.elements) > 1:
+            raise TopologyError("Model: more than one Maneuver; a scene has one load field (gravity included)")
+
     def structure(self):
         base = Element.structure(self)
         if self.kind != "profile":
@@ -153,9 +163,6 @@ class Maneuver(Element):
 
     def contribute(self, ctx):
         ax, ay = self.acceleration(ctx.t, ctx.p)
-        loads = {}
-        for station, mass in ctx.masses():
-            x, y = ctx.coord(station, "x")[0], ctx.coord(station, "y")[0]
-            loads[x] = loads.get(x, 0) + mass * ax
-            loads[y] = loads.get(y, 0) + mass * ay
+        # each element's mass under the uniform field: Q = (M r_x) a_x + (M r_y) a_y
+        loads = {q: mx * ax + my * ay for q, (mx, my) in ctx.rigid_body_masses().items()}
         return Terms(loads=loads)

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
 from .rotor import check_station
 
@@ -83,6 +83,33 @@ class Disk(Element):
     def _default_label(self):
         return f"disk{self.station}"
 
+    def coordinates(self):
+        return ((self.station, "alpha"),) if self.torsion else ()
+
+    def inertia(self):
+        return ((self.station, "x"), (self.station, "y")) + (((self.station, "alpha"),) if self.torsion else ())
+
+    def effects(self):
+        return frozenset({"unbalance"} if self.eccentricity is not None else ()) | (
+            frozenset({"torsion"}) if self.torsion else frozenset())
+
+    def check(self, model):
+        others = [e for e in model.elements_at(self.station) if isinstance(e, Disk)]
+        if len(others) > 1:
+            raise TopologyError(f"Model: station {self.station!r} has more than one Disk; merge them into one")
+
+    def explain(self, model, problem, coordinates):
+        if problem == "support" and (self.station, "alpha") in coordinates:
+            return (f"Disk at station {self.station!r} has torsion=True but no torsional stiffness path to the drive "
+                    "(a station without torsional coordinate); add a ShaftSegment with torsional_stiffness "
+                    "(or shear_modulus, polar_area_moment, length) from it towards the drive")
+        return None
+
+    def rigid_body_mass(self, ctx):
+        x, y = ctx.coord(self.station, "x")[0], ctx.coord(self.station, "y")[0]
+        m = ctx.p["mass"]
+        return {x: (m, sp.S.Zero), y: (sp.S.Zero, m)}
+
     def polar_inertia_expr(self, p):
         """J as an expression of the parameter symbols ``p``."""
         if self.polar_inertia is not None:
@@ -139,6 +166,14 @@ class LumpedMass(Element):
 
     def _default_label(self):
         return f"mass{self.station}"
+
+    def inertia(self):
+        return ((self.station, "x"), (self.station, "y"))
+
+    def rigid_body_mass(self, ctx):
+        x, y = ctx.coord(self.station, "x")[0], ctx.coord(self.station, "y")[0]
+        m = ctx.p["mass"]
+        return {x: (m, sp.S.Zero), y: (sp.S.Zero, m)}
 
     def contribute(self, ctx):
         (_, xd), (_, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")

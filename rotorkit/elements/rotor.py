@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
 
 __all__ = ["Rotor", "check_station"]
@@ -93,6 +93,37 @@ class Rotor(Element):
 
     def attached_stations(self):
         return self.stations
+
+    def owned_stations(self):
+        return self.stations
+
+    def coordinates(self):
+        return tuple((s, axis) for axis in ("x", "y") for s in self.stations)
+
+    def check(self, model):
+        seen, r = [self.name], self
+        while r.speed is None:
+            if r.reference not in model.rotors:
+                raise TopologyError(
+                    f"Rotor {r.name!r}: reference={r.reference!r} is not a rotor of the model "
+                    f"(rotors: {sorted(model.rotors)})"
+                )
+            r = model.rotors[r.reference]
+            if r.name in seen:
+                raise TopologyError(f"Rotor speeds refer to each other in a loop: {seen + [r.name]}")
+            seen.append(r.name)
+
+    def explain(self, model, problem, coordinates):
+        stations = list(dict.fromkeys(s for s, axis in coordinates if axis in ("x", "y")))
+        if not stations:
+            return None
+        if problem == "inertia":
+            return (f"Model: station {stations[0]!r} (rotor {self.name!r}) has no mass, so its equations "
+                    "are singular; add LumpedMass(station=..., mass=...) or a Disk there")
+        what = ("has no support" if len(stations) == len(self.stations)
+                else f"has stations {stations} with no stiffness path to a support")
+        return (f"Rotor {self.name!r} {what}: it would drift freely; add an ElasticSupport, a "
+                "ShaftSegment with bending stiffness, or a BallBearing to a supported rotor")
 
     def label(self):
         return self.name

@@ -2,7 +2,7 @@
 
 from dataclasses import dataclass
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from ..symbolic.functions import contact_ratio, hypot, ramp
 from .base import Element, Terms
 from .rotor import check_station
@@ -70,6 +70,17 @@ class RubStator(Element):
 
     def _default_label(self):
         return f"rub{self.station}"
+
+    def effects(self):
+        return frozenset({"rub"})
+
+    def check(self, model):
+        if model.has_coordinate(self.station, "alpha") and self.contact_radius is None:
+            if not any(getattr(e, "radius", None) is not None for e in model.elements_at(self.station)):
+                raise TopologyError(
+                    f"RubStator {self.label()!r}: the disk at station {self.station!r} has no radius for the "
+                    "friction torque; give contact_radius=... (m)"
+                )
 
     def contribute(self, ctx):
         p = ctx.p

@@ -2,7 +2,7 @@
 
 from dataclasses import dataclass
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
 from .rotor import check_station
 
@@ -141,6 +141,28 @@ class ShaftSegment(Element):
 
     def _default_label(self):
         return f"shaft{self.start}_{self.end}"
+
+    def stiffness_links(self):
+        links = ()
+        if self.has_bending():
+            links += (((self.start, "x"), (self.end, "x")), ((self.start, "y"), (self.end, "y")))
+        if self.has_torsion():  # a station without alpha turns with the drive
+            links += (((self.start, "alpha"), (self.end, "alpha")),)
+        return links
+
+    def check(self, model):
+        ra, rb = model.rotor_of(self.start), model.rotor_of(self.end)
+        if ra is not rb:
+            raise TopologyError(
+                f"ShaftSegment {self.label()!r}: stations {self.start!r} (rotor {ra.name!r}) and {self.end!r} "
+                f"(rotor {rb.name!r}) are on different rotors; couple rotors with a BallBearing"
+            )
+        if self.has_torsion() and not (model.has_coordinate(self.start, "alpha")
+                                       or model.has_coordinate(self.end, "alpha")):
+            raise TopologyError(
+                f"ShaftSegment {self.label()!r}: torsional stiffness between stations with no torsional "
+                "coordinate has no effect; give a Disk at one end torsion=True, or drop the torsion"
+            )
 
     def has_bending(self):
         return self.bending_stiffness is not None or self.youngs_modulus is not None

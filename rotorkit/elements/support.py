@@ -47,6 +47,9 @@ class ElasticSupport(Element):
     def _default_label(self):
         return f"support{self.station}"
 
+    def grounds(self):
+        return ((self.station, "x"), (self.station, "y"))
+
     def contribute(self, ctx):
         (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         k, c = ctx.p["stiffness"], ctx.p["damping"]

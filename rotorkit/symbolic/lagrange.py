@@ -292,10 +292,9 @@ def derive(model):
 
 def _latex_names(model, symbols):
     names = {}
-    for n, q in symbols.coordinates.items():
-        axis = n.rstrip("0123456789") if not n.startswith("alpha") else "alpha"
-        station = n[len(axis):]
-        base = r"\alpha" if axis == "alpha" else axis
+    bases = {"alpha": r"\alpha", "thx": r"\theta_{x}", "thy": r"\theta_{y}"}
+    for (station, axis), (n, q) in zip(model.coordinates, symbols.coordinates.items()):
+        base = bases.get(axis, axis)
         names[q] = f"{base}_{{{station}}}"
         names[symbols.speeds[n]] = rf"\dot{{{base}}}_{{{station}}}"
     for e in model.elements:
