@@ -103,6 +103,12 @@ class Model:
         return (station, axis) in self._coordinate_set
 
     @property
+    def disks(self):
+        """Station -> the rigid disk there (an element with a ``polar_inertia`` field), in station order."""
+        return {s: e for s in self.stations for e in self.elements_at(s)
+                if hasattr(e, "polar_inertia") and e.attached_stations() == (s,)}
+
+    @property
     def torsion_stations(self):
         """Stations with a torsional coordinate ``alpha``."""
         return tuple(s for s, axis in self.coordinates if axis == "alpha")
