@@ -154,9 +154,9 @@ def test_two_mass_chain_jacobian_blocks(chain):
 def test_two_mass_chain_mode_shape_ratio(chain):
     low, _ = quadratic_roots(M1, M2, K1, K2)
     modes = natural_frequencies(chain.with_parameters(support1_damping=0.0))
-    shape = modes.shape_of(0)
+    shape = modes.shape_of(1)
     # (K - w^2 M) v = 0, first row: x2 / x1 = (k1 + k2 - m1 w^2) / k2
-    # (modes 0 and 1 are the x/y pair of one double frequency: pick the x or y part)
+    # (modes 1 and 2 are the backward/forward pair of one double frequency: pick the x or y part)
     axis = "x" if abs(shape["x1"]) > abs(shape["y1"]) else "y"
     ratio = shape[f"{axis}2"] / shape[f"{axis}1"]
     np.testing.assert_allclose(ratio.real, (K1 + K2 - M1 * low**2) / K2, rtol=1e-5)
@@ -181,13 +181,13 @@ def test_torsional_two_disk_frequencies():
         *[ElasticSupport(station=s, stiffness=KB) for s in (1, 2, 3)],
     ], name="torsion").compile(backend="python")
     modes = natural_frequencies(system)
-    torsional = [i for i in range(len(modes)) if modes.dominant_coordinates(i, 1)[0].startswith("alpha")]
+    torsional = [i for i in range(len(modes)) if modes.dominant_coordinates(i + 1, 1)[0].startswith("alpha")]
     np.testing.assert_allclose(modes.frequencies[torsional], quadratic_roots(J2, J3, KT1, KT2), rtol=1e-6)
     bending = [i for i in range(len(modes)) if i not in torsional]
     np.testing.assert_allclose(modes.frequencies[bending], math.sqrt(KB / 1.0), rtol=1e-6)
     assert len(bending) == 6
     for i in torsional:  # pure torsion: no bending in the shape
-        shape = modes.shape_of(i)
+        shape = modes.shape_of(i + 1)
         assert max(abs(v) for n, v in shape.items() if not n.startswith("alpha")) < 1e-6
 
 
@@ -243,7 +243,7 @@ def test_rub_engaged_pushes_a_grazing_contact_along_the_sag():
     modes = natural_frequencies(system, rub_engaged=True)
     # radial (y, along the sag) gets k + kr, tangential (x) keeps k: a grazing contact
     np.testing.assert_allclose(modes.frequencies, [WN, math.sqrt((STIFFNESS + KR) / MASS)], rtol=1e-5)
-    assert abs(modes.shape_of(1)["y1"]) == 1.0
+    assert abs(modes.shape_of(2)["y1"]) == 1.0
     np.testing.assert_allclose(modes.operating_point, [0.0, -MASS * G / STIFFNESS], rtol=1e-9, atol=1e-15)
 
 
@@ -265,7 +265,7 @@ def test_al31f_lowest_bending_frequency(al31f_modes):
     # A broad band: this is a regression guard against gross errors, not a fit to the number.
     modes = al31f_modes
     assert 250.0 < modes.frequencies[0] < 450.0
-    assert modes.dominant_coordinates(0, 1)[0][0] in "xy"
+    assert modes.dominant_coordinates(1, 1)[0][0] in "xy"
     assert modes.frequency_range.shape == (len(modes), 2)
     assert modes.sample_times.size == 16
     assert modes.frequency_range[0, 0] <= modes.frequency_range[0, 1]
@@ -314,11 +314,15 @@ def test_jeffcott_campbell_is_flat_and_the_1x_line_is_the_speed():
     speeds = np.array([0.0, 50.0, 150.0, 300.0])
     diagram = campbell(jeffcott(), speeds, n_modes=2, speed_parameter="R_speed")
     assert isinstance(diagram, Campbell)
-    np.testing.assert_allclose(diagram.frequencies, WN, rtol=1e-7)
+    wd = WN * math.sqrt(1.0 - ZETA**2)  # the diagram shows damped natural frequencies
+    np.testing.assert_allclose(diagram.frequencies, wd, rtol=1e-7)
+    np.testing.assert_allclose(diagram.natural_frequencies, WN, rtol=1e-7)
+    np.testing.assert_allclose(diagram.log_decrements, 2 * math.pi * ZETA / math.sqrt(1 - ZETA**2), rtol=1e-6)
     np.testing.assert_array_equal(diagram.rotor_speeds["R"], speeds)
     crossings = diagram.critical_speeds()
-    assert [c[:2] for c in crossings] == [("R", 0), ("R", 1)]
-    np.testing.assert_allclose([c[2] for c in crossings], WN, rtol=1e-7)
+    assert [(c.rotor, c.mode, c.whirl) for c in crossings] == [("R", 1, "backward"), ("R", 2, "forward")]
+    np.testing.assert_allclose([c.speed for c in crossings], wd, rtol=1e-7)
+    np.testing.assert_allclose([c.frequency for c in crossings], wd, rtol=1e-7)
 
 
 def test_campbell_from_a_builder_follows_the_speed_ratio():
@@ -358,11 +362,15 @@ def test_plot_mode_shape(chain):
     from rotorkit.plotting.campbell import plot_mode_shape
 
     modes = natural_frequencies(chain)
-    ax = plot_mode_shape(modes, 2)
+    ax = plot_mode_shape(modes, 3)
     lines = ax.get_lines()
-    assert [line.get_label() for line in lines] == ["|x|", "|y|"]
-    assert max(max(line.get_ydata()) for line in lines) == pytest.approx(1.0)
-    assert modes.plot_mode_shape(0) is not None
+    labels = [line.get_label() for line in lines]
+    assert labels[:2] == ["semi-major axis", "semi-minor axis"]
+    assert max(lines[0].get_ydata()) == pytest.approx(1.0)  # largest entry 1
+    np.testing.assert_allclose(lines[1].get_ydata(), lines[0].get_ydata(), rtol=1e-9)  # circular whirl
+    assert ax.get_xlabel() == "station" and "relative" in ax.get_ylabel()
+    assert modes.plot_mode_shape(1) is not None
+    assert modes.plot_orbits(2) is not None
 
 
 # ---------------------------------------------------------------------------
@@ -382,11 +390,14 @@ def test_plot_mode_shape(chain):
         (lambda s: natural_frequencies(s, rub_engaged="yes"), "rub_engaged"),
         (lambda s: natural_frequencies(s, cage_samples=0), "cage_samples"),
         (lambda s: natural_frequencies(s, equilibrium="sag"), "equilibrium"),
-        (lambda s: campbell(s, [0.0, 1.0]), "speed_parameter='LP_speed'"),
+        (lambda s: campbell(s, [0.0, 1.0], speed_parameter="LP_speed"), "speed_parameter='LP_speed'"),
+        (lambda s: campbell(s, [1.0, 0.0], speed_parameter="R_speed"), "increase"),
+        (lambda s: campbell(s, [1.0], orders=(0,), speed_parameter="R_speed"), "orders"),
         (lambda s: campbell(s, [], speed_parameter="R_speed"), "speeds"),
         (lambda s: campbell(s, [1.0], n_modes=0, speed_parameter="R_speed"), "n_modes"),
-        (lambda s: natural_frequencies(s).shape_of(5), "mode index 5"),
-        (lambda s: natural_frequencies(s).table(units="rpm"), "units"),
+        (lambda s: natural_frequencies(s).shape_of(5), "mode 5"),
+        (lambda s: natural_frequencies(s).shape_of(0), "mode 0 .*from 1"),
+        (lambda s: natural_frequencies(s).table(units="kHz"), "units"),
     ],
 )
 def test_bad_input_raises(call, match):

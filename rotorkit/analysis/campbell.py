@@ -1,0 +1,456 @@
+"""Campbell and stability diagrams: modes tracked across speed, critical speeds, instability onset.
+
+:func:`campbell` solves the modes at each speed of a grid, either of a
+:class:`~rotorkit.analysis.linear_model.LinearModel` (one eigen-solution
+per speed) or of a compiled system re-linearised at each speed (speed
+dependent bearings and contacts exactly at each point). Modes are tracked
+from one speed to the next by the modal assurance criterion (MAC) of their
+shapes, ``|a^H b|^2 / (|a|^2 |b|^2)``, with an optimal assignment
+(:func:`scipy.optimize.linear_sum_assignment`), not by sorting frequencies:
+a forward and a backward mode that cross keep their identity (their
+circular shapes are orthogonal).
+
+On every grid interval where a tracked damped frequency crosses an
+excitation line ``order x spin speed`` of a rotor, the critical speed is
+located by Brent's method on the re-solved (and re-tracked) mode; the same
+for the instability onset, where a mode's logarithmic decrement crosses
+zero.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from .modal import frequency_factor
+
+__all__ = ["Campbell", "CriticalSpeed", "InstabilityOnset", "campbell", "mac"]
+
+
+def mac(a, b):
+    """Modal assurance criterion matrix ``|a_i^H b_j|^2 / (|a_i|^2 |b_j|^2)`` of shape columns."""
+    a, b = np.atleast_2d(a), np.atleast_2d(b)
+    num = np.abs(a.conj().T @ b) ** 2
+    den = np.outer(np.sum(np.abs(a) ** 2, axis=0), np.sum(np.abs(b) ** 2, axis=0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / den, 0.0)
+
+
+@dataclass(frozen=True, slots=True)
+class CriticalSpeed:
+    """Where an excitation line meets a tracked mode.
+
+    Attributes
+    ----------
+    rotor : str
+    order : float
+        Excitation order (1 for unbalance).
+    mode : int
+        Tracked mode number (1-based).
+    speed : float
+        Swept speed (rad/s).
+    frequency : float
+        Damped natural frequency there (rad/s) = ``order x`` the rotor's spin.
+    whirl : str
+        The mode's whirl there.
+    """
+
+    rotor: str
+    order: float
+    mode: int
+    speed: float
+    frequency: float
+    whirl: str
+
+
+@dataclass(frozen=True, slots=True)
+class InstabilityOnset:
+    """Speed (rad/s) where tracked ``mode``'s log decrement crosses zero, and its frequency there."""
+
+    mode: int
+    speed: float
+    frequency: float
+    whirl: str
+    becomes: str  # "unstable" or "stable"
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Campbell:
+    """Tracked modes against a swept rotor speed.
+
+    Attributes
+    ----------
+    speeds : numpy.ndarray, shape (n_speeds,)
+        Values of :attr:`speed_parameter` (rad/s).
+    frequencies : numpy.ndarray, shape (n_speeds, n_modes)
+        Damped natural frequencies ``Im(lambda)`` (rad/s) of the tracked
+        modes (column ``k`` is mode ``k + 1``, numbered by frequency at the
+        first speed); NaN where a mode is lost.
+    natural_frequencies : numpy.ndarray, shape (n_speeds, n_modes)
+        ``|lambda|`` (rad/s).
+    damping_ratios, log_decrements : numpy.ndarray, shape (n_speeds, n_modes)
+    whirl : numpy.ndarray of str, shape (n_speeds, n_modes)
+        ``"forward"``, ``"backward"``, ``"mixed"`` or ``"linear"``.
+    rotor_speeds : dict of str to numpy.ndarray, shape (n_speeds,)
+        Rotor name -> its spin speed (rad/s): the 1x lines.
+    speed_parameter : str
+    orders : tuple of float
+        Excitation orders drawn and searched (default 1x).
+    crossings : tuple of CriticalSpeed
+        Located by root finding, by speed.
+    onsets : tuple of InstabilityOnset
+        Located by root finding, by speed.
+    """
+
+    speeds: np.ndarray
+    frequencies: np.ndarray
+    natural_frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    log_decrements: np.ndarray
+    whirl: np.ndarray
+    rotor_speeds: dict
+    speed_parameter: str
+    orders: tuple = (1.0,)
+    crossings: tuple = ()
+    onsets: tuple = ()
+
+    @property
+    def n_modes(self):
+        return int(self.frequencies.shape[1])
+
+    def critical_speeds(self, rotor=None, order=None):
+        """The :class:`CriticalSpeed` list, optionally of one rotor and/or one order."""
+        if rotor is not None and rotor not in self.rotor_speeds:
+            raise ParameterError(f"rotor={rotor!r} is unknown; rotors: {', '.join(self.rotor_speeds)}")
+        return [c for c in self.crossings if (rotor is None or c.rotor == rotor)
+                and (order is None or c.order == order)]
+
+    @property
+    def instability_onset(self):
+        """Lowest swept speed (rad/s) where a mode becomes unstable, or None."""
+        ups = [o.speed for o in self.onsets if o.becomes == "unstable"]
+        if not ups and np.any(self.log_decrements[0] < 0):
+            return float(self.speeds[0])
+        return min(ups) if ups else None
+
+    def table(self, units="rad/s"):
+        """Critical speeds and instability onsets as plain text."""
+        f = frequency_factor(units)
+        head = f"{'rotor':>6}  {'order':>5}  {'mode':>4}  {f'speed ({units})':>14}  {f'frequency ({units})':>18}  whirl"
+        lines = ["critical speeds", head, "-" * len(head)]
+        for c in self.crossings:
+            lines.append(f"{c.rotor:>6}  {c.order:>5g}  {c.mode:>4}  {c.speed * f:>14.6g}  {c.frequency * f:>18.6g}  "
+                         f"{c.whirl}")
+        if self.onsets:
+            lines.append("instability onsets (log decrement crosses 0)")
+            for o in self.onsets:
+                lines.append(f"mode {o.mode}: {o.becomes} above {o.speed * f:.6g} {units} "
+                             f"({o.whirl}, {o.frequency * f:.6g} {units})")
+        return "\n".join(lines)
+
+    def to_csv(self, units="rad/s"):
+        """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl."""
+        f = frequency_factor(units)
+        u = {"rad/s": "rad_s", "Hz": "Hz", "rpm": "rpm"}[units]
+        cols = [f"{self.speed_parameter}_{u}"] + [f"{r}_spin_{u}" for r in self.rotor_speeds]
+        for k in range(self.n_modes):
+            cols += [f"mode{k + 1}_frequency_{u}", f"mode{k + 1}_log_decrement", f"mode{k + 1}_whirl"]
+        rows = [",".join(cols)]
+        for i, w in enumerate(self.speeds):
+            vals = [f"{w * f:.10g}"] + [f"{line[i] * f:.10g}" for line in self.rotor_speeds.values()]
+            for k in range(self.n_modes):
+                vals += [f"{self.frequencies[i, k] * f:.10g}", f"{self.log_decrements[i, k]:.10g}",
+                         str(self.whirl[i, k])]
+            rows.append(",".join(vals))
+        return "\n".join(rows) + "\n"
+
+    def plot(self, ax=None, **kwargs):
+        """Draw the Campbell diagram (:func:`rotorkit.plotting.campbell.plot_campbell`); returns the Axes."""
+        from ..plotting.campbell import plot_campbell
+
+        return plot_campbell(self, ax=ax, **kwargs)
+
+    def plot_stability(self, ax=None, **kwargs):
+        """Log decrement against speed (:func:`rotorkit.plotting.campbell.plot_log_decrement`)."""
+        from ..plotting.campbell import plot_log_decrement
+
+        return plot_log_decrement(self, ax=ax, **kwargs)
+
+
+# ---------------------------------------------------------------------------
+# Solving modes at a speed
+# ---------------------------------------------------------------------------
+
+
+def _resolve_system(source, backend):
+    """A System or LinearModel from a System, a Model, a preset name or a builder."""
+    from .linear_model import LinearModel
+
+    if isinstance(source, LinearModel):
+        return source
+    if isinstance(source, str):
+        from ..presets import preset
+
+        source = preset(source)
+    elif callable(source) and not hasattr(source, "rhs") and not hasattr(source, "compile"):
+        source = source()
+    if hasattr(source, "rhs"):
+        return source
+    if hasattr(source, "compile"):
+        return source.compile(backend=backend)
+    raise TypeError(
+        f"campbell: expected a LinearModel, a System, a Model, a preset name or a function returning one of "
+        f"them, got {type(source).__name__}"
+    )
+
+
+def _solver(target, speed_parameter, options):
+    """(modes_at(speed), spins_at(speed), parameter name) for a LinearModel or a System."""
+    from .linear_model import LinearModel
+
+    if isinstance(target, LinearModel):
+        return (lambda w: target.modes(w, left=False)), target.spin_speeds, target.speed_parameter
+    from .linearize import _rotor_speeds
+    from .modes import natural_frequencies
+
+    available = [p for p in target.parameters if p.endswith("_speed") and p[: -len("_speed")] in target.model.rotors]
+    if speed_parameter is None:
+        speed_parameter = available[0] if available else None
+    if speed_parameter not in available:
+        raise ParameterError(
+            f"speed_parameter={speed_parameter!r} is not a rotor speed of {target.name!r}: expected one of {available}"
+        )
+
+    def modes_at(w):
+        point = target.with_parameters(**{speed_parameter: float(w)})
+        return natural_frequencies(point, **options)
+
+    def spins_at(w):
+        return _rotor_speeds(target.with_parameters(**{speed_parameter: float(w)}))
+
+    return modes_at, spins_at, speed_parameter
+
+
+def _match(previous_shapes, previous_freqs, modes, count):
+    """Columns of ``modes`` continuing the tracked shapes (MAC, ties broken by frequency)."""
+    from scipy.optimize import linear_sum_assignment
+
+    k = len(modes)
+    if previous_shapes is None:
+        return list(range(min(count, k)))
+    if k == 0:
+        return [None] * previous_shapes.shape[1]
+    M = mac(previous_shapes, modes.shapes)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(modes.damped_frequencies[None, :] - previous_freqs[:, None]) / np.maximum(
+            np.abs(previous_freqs[:, None]), 1e-300)
+    cost = (1.0 - M) + 0.1 * np.nan_to_num(np.minimum(rel, 10.0), nan=10.0)
+    rows, cols = linear_sum_assignment(cost)
+    out = [None] * previous_shapes.shape[1]
+    for r, c in zip(rows, cols):
+        out[r] = int(c)
+    return out
+
+
+def _check_speeds(speeds):
+    try:
+        w = np.array(speeds, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"speeds={speeds!r} is invalid: expected a 1-D array of speeds (rad/s)") from exc
+    if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w)):
+        raise ParameterError(f"speeds has shape {w.shape}: expected a non-empty 1-D array of finite speeds (rad/s)")
+    if w.size > 1 and np.any(np.diff(w) <= 0):
+        raise ParameterError("speeds must increase strictly (rad/s)")
+    return w
+
+
+def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None, orders=(1.0,), refine=True,
+             t=0.0, equilibrium=True, rub_engaged=None, unbalance=False, cage_samples=None, method="auto",
+             backend="auto", xtol=None):
+    """Modes tracked across speeds, critical speeds and instability onsets.
+
+    Parameters
+    ----------
+    model_or_preset_builder : LinearModel, System, Model, str or callable
+        A linear model (its ``G`` and ``H`` scale with the speed); or a
+        compiled system, a model (compiled with ``backend``), a preset name
+        or a function of no arguments returning one, re-linearised at each
+        speed with :func:`~rotorkit.analysis.modes.natural_frequencies`.
+    speeds : array_like, shape (n_speeds,)
+        Increasing values of the swept speed (rad/s).
+    n_modes : int
+        Number of modes tracked (the lowest ``n_modes`` at the first speed).
+    speed_parameter : str, optional
+        For a system: the swept ``<rotor>_speed`` (default the first rotor's,
+        ``"LP_speed"`` for the AL-31F preset); rotors given by a speed ratio
+        follow it.
+    orders : sequence of float
+        Excitation orders whose lines are searched for crossings (1x default).
+    refine : bool
+        Locate crossings and onsets by root finding (False: linear
+        interpolation between grid points).
+    t, equilibrium, rub_engaged, unbalance, cage_samples, method
+        As in :func:`~rotorkit.analysis.modes.natural_frequencies` (systems only).
+    backend : {"auto", "python", "numba"}
+        Used only when a model has to be compiled.
+    xtol : float, optional
+        Absolute tolerance (rad/s) of the located speeds (default 1e-9 of the
+        speed range).
+
+    Returns
+    -------
+    Campbell
+
+    Examples
+    --------
+    >>> from rotorkit import Rotor, Disk, ElasticSupport, Model
+    >>> model = Model([Rotor(name="R", stations=(1,), speed=0.0),
+    ...                Disk(station=1, mass=2.0, radius=0.1),
+    ...                ElasticSupport(station=1, stiffness=2e4)])
+    >>> c = campbell(model, [0.0, 50.0, 150.0], n_modes=2, speed_parameter="R_speed", backend="python")
+    >>> c.frequencies.round(6).tolist()
+    [[100.0, 100.0], [100.0, 100.0], [100.0, 100.0]]
+    >>> [(x.rotor, x.mode, round(x.speed, 6), x.whirl) for x in c.critical_speeds()]
+    [('R', 1, 100.0, 'backward'), ('R', 2, 100.0, 'forward')]
+    """
+    from scipy.optimize import brentq
+
+    from .modes import DEFAULT_CAGE_SAMPLES
+
+    target = _resolve_system(model_or_preset_builder, backend)
+    w = _check_speeds(speeds)
+    if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
+        raise ParameterError(f"n_modes={n_modes!r} is invalid: expected an integer >= 1")
+    try:
+        orders = tuple(float(o) for o in orders)
+    except (TypeError, ValueError):
+        raise ParameterError(f"orders={orders!r} is invalid: expected a sequence of positive numbers") from None
+    if not orders or any(not (math.isfinite(o) and o > 0) for o in orders):
+        raise ParameterError(f"orders={orders!r} is invalid: expected positive excitation orders, e.g. (1, 2)")
+    options = dict(t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=unbalance,
+                   cage_samples=DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples, method=method)
+    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options)
+
+    count = int(n_modes)
+    shape = (w.size, count)
+    lam = np.full(shape, np.nan + 0j)
+    whirl = np.full(shape, "", dtype=object)
+    tracked_shapes = []  # per speed: (n, count) shapes of the tracked modes
+    prev_shapes = prev_freqs = None
+    lines = None
+    for i, speed in enumerate(w):
+        modes = modes_at(float(speed))
+        cols = _match(prev_shapes, prev_freqs, modes, count)
+        if prev_shapes is None:
+            count = len(cols)
+            lam, whirl = lam[:, :count], whirl[:, :count]
+            if count == 0:
+                raise ParameterError("campbell: the system has no oscillatory mode at the first speed")
+        kinds = modes.whirl
+        shapes = np.array(prev_shapes, dtype=complex) if prev_shapes is not None else np.empty(
+            (len(modes.coordinate_names), count), dtype=complex)
+        freqs = np.array(prev_freqs) if prev_freqs is not None else np.empty(count)
+        for k, c in enumerate(cols):
+            if c is None:
+                continue
+            lam[i, k] = modes.eigenvalues[c]
+            whirl[i, k] = kinds[c]
+            shapes[:, k] = modes.shapes[:, c]
+            freqs[k] = modes.eigenvalues[c].imag
+        prev_shapes, prev_freqs = shapes, freqs
+        tracked_shapes.append(shapes.copy())
+        spins = spins_at(float(speed))
+        if lines is None:
+            lines = {name: np.empty(w.size) for name in spins}
+        for name, value in spins.items():
+            lines[name][i] = value
+
+    damped = lam.imag
+    logdec = -2.0 * np.pi * lam.real / lam.imag
+    span = float(w[-1] - w[0]) if w.size > 1 else 1.0
+    xtol = 1e-9 * max(span, 1.0) if xtol is None else float(xtol)
+
+    def tracked(k, j, speed):
+        """Eigenvalue and whirl of tracked mode k at ``speed``, continued from grid point j."""
+        modes = modes_at(speed)
+        c = _match(tracked_shapes[j][:, [k]], np.array([damped[j, k]]), modes, 1)[0]
+        if c is None:
+            return complex("nan"), ""
+        return modes.eigenvalues[c], modes.whirl[c]
+
+    def locate(g, j, k):
+        a, b = float(w[j]), float(w[j + 1])
+        ga, gb = g(a, None), g(b, None)
+        if not refine:
+            return a + (b - a) * ga / (ga - gb)
+        try:
+            return brentq(lambda s: g(s, tracked(k, j, s)[0]), a, b, xtol=xtol, maxiter=60)
+        except ValueError:  # the re-tracked mode does not bracket: fall back on the grid
+            return a + (b - a) * ga / (ga - gb)
+
+    crossings = []
+    for name in lines:
+        ratio_of = _line_function(w, lines[name])
+        for order in orders:
+            for k in range(count):
+                d = damped[:, k] - order * lines[name]
+                for j in range(w.size - 1):
+                    if not (np.isfinite(d[j]) and np.isfinite(d[j + 1])) or d[j] * d[j + 1] > 0 or \
+                            (d[j] == 0 and j > 0):
+                        continue
+
+                    def g(s, value, k=k, j=j, order=order, line=ratio_of):
+                        if value is None:
+                            return float((damped[j, k] if s == w[j] else damped[j + 1, k]) - order * line(s))
+                        return float(value.imag - order * line(s))
+
+                    s = float(w[j]) if d[j] == 0 else float(w[j + 1]) if d[j + 1] == 0 else locate(g, j, k)
+                    value, kind = tracked(k, j, s) if refine else (lam[j, k], whirl[j, k])
+                    crossings.append(CriticalSpeed(rotor=name, order=order, mode=k + 1, speed=s,
+                                                   frequency=float(order * ratio_of(s)), whirl=kind or whirl[j, k]))
+    onsets = []
+    for k in range(count):
+        d = logdec[:, k]
+        for j in range(w.size - 1):
+            if not (np.isfinite(d[j]) and np.isfinite(d[j + 1])) or d[j] * d[j + 1] >= 0:
+                continue
+
+            def g(s, value, k=k, j=j):
+                if value is None:
+                    return float(logdec[j, k] if s == w[j] else logdec[j + 1, k])
+                return float(-value.real / value.imag)
+
+            s = locate(g, j, k)
+            value, kind = tracked(k, j, s) if refine else (lam[j, k], whirl[j, k])
+            onsets.append(InstabilityOnset(mode=k + 1, speed=float(s), frequency=float(value.imag),
+                                           whirl=kind or whirl[j, k], becomes="unstable" if d[j] > 0 else "stable"))
+    return Campbell(
+        speeds=_ro(w),
+        frequencies=_ro(damped),
+        natural_frequencies=_ro(np.abs(lam)),
+        damping_ratios=_ro(-lam.real / np.abs(lam)),
+        log_decrements=_ro(logdec),
+        whirl=_ro(whirl.astype(str)),
+        rotor_speeds={name: _ro(v) for name, v in lines.items()},
+        speed_parameter=speed_parameter,
+        orders=orders,
+        crossings=tuple(sorted(crossings, key=lambda c: (c.speed, c.mode))),
+        onsets=tuple(sorted(onsets, key=lambda o: o.speed)),
+    )
+
+
+def _line_function(w, values):
+    """Spin speed at any swept speed: exactly affine in the swept speed, interpolated between grid points."""
+    if w.size == 1:
+        return lambda s: float(values[0])
+    return lambda s: float(np.interp(s, w, values))
+
+
+def _ro(a):
+    a = np.array(a)
+    a.setflags(write=False)
+    return a

@@ -1,0 +1,267 @@
+"""A linear rotor model ``M q'' + (C + W G) q' + (K + W H) q = F`` at a swept speed ``W``.
+
+Every frequency-domain analysis (modes at a speed, Campbell diagram,
+unbalance response, frequency response functions) works on a
+:class:`LinearModel`: mass ``M``, damping ``C``, gyroscopic ``G`` (scaled by
+the swept speed), stiffness ``K`` (cross-coupled entries allowed) and a
+speed-proportional circulatory stiffness ``H``. Build one
+
+- from matrices (``LinearModel(mass=..., damping=..., stiffness=...)``),
+  e.g. a finite-element assembly or a textbook example; or
+- from a compiled :class:`~rotorkit.system.System` with
+  :func:`linear_model`: the system is linearised (its analytic Jacobian, at
+  the static equilibrium, ball-bearing cage positions averaged) at the speed
+  ``W0`` and at ``W0 + dW``; the velocity and coordinate blocks give
+  ``C + W G`` and ``K + W H`` to first order in the speed, and the mass
+  matrix is the constant part of the derived ``M(q)`` (one symbolic
+  derivation).
+
+Each rotor spins at ``offset + ratio * W`` (:attr:`LinearModel.rotor_speeds`):
+both spools of a dual rotor follow the swept speed with their own ratio.
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError
+from .whirl import station_pairs
+
+__all__ = ["LinearModel", "linear_model"]
+
+
+def _matrix(value, n, name, default_zero=False):
+    if value is None:
+        if default_zero:
+            return np.zeros((n, n))
+        raise ParameterError(f"{name} is required: expected an ({n}, {n}) matrix")
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name}={value!r} is invalid: expected a real ({n}, {n}) matrix") from exc
+    if arr.shape != (n, n):
+        raise ParameterError(f"{name} has shape {arr.shape}: expected ({n}, {n}), one row per coordinate")
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} contains NaN or inf: expected finite entries")
+    arr.setflags(write=False)
+    return arr
+
+
+@dataclass(frozen=True, eq=False)
+class LinearModel:
+    """Matrices of ``M q'' + (C + W G) q' + (K + W H) q = F`` (SI units).
+
+    Parameters
+    ----------
+    mass, damping, stiffness : array_like, shape (n, n)
+        ``M`` (kg, kg m^2), ``C`` (N s/m ...), ``K`` (N/m ...); ``K`` may be
+        non-symmetric (cross-coupled bearings).
+    gyroscopic, circulatory : array_like, shape (n, n), optional
+        ``G`` and ``H`` per unit swept speed (default zero).
+    coordinate_names : tuple of str, optional
+        Default ``q1 ... qn``; bending coordinates named ``x<s>``, ``y<s>``
+        make ``<s>`` a station (whirl, orbits, unbalance).
+    rotor_speeds : dict, optional
+        Rotor name -> ``(offset, ratio)``: spin speed ``offset + ratio * W``
+        (rad/s). Default ``{"rotor": (0.0, 1.0)}``.
+    station_rotors : dict, optional
+        Station -> rotor name (default: every station on the first rotor).
+    station_positions : dict, optional
+        Station -> axial position (m), for plots along the shaft.
+    speed_parameter : str
+        Name of the swept speed (for labels), default ``"speed"``.
+    """
+
+    mass: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    gyroscopic: np.ndarray | None = None
+    circulatory: np.ndarray | None = None
+    coordinate_names: tuple | None = None
+    rotor_speeds: dict = field(default_factory=lambda: {"rotor": (0.0, 1.0)})
+    station_rotors: dict | None = None
+    station_positions: dict | None = None
+    speed_parameter: str = "speed"
+
+    def __post_init__(self):
+        try:
+            n = int(np.shape(self.mass)[0])
+        except (IndexError, TypeError):
+            raise ParameterError(f"mass={self.mass!r} is invalid: expected an (n, n) matrix") from None
+        set_ = object.__setattr__
+        set_(self, "mass", _matrix(self.mass, n, "mass"))
+        set_(self, "damping", _matrix(self.damping, n, "damping", default_zero=True))
+        set_(self, "stiffness", _matrix(self.stiffness, n, "stiffness"))
+        set_(self, "gyroscopic", _matrix(self.gyroscopic, n, "gyroscopic", default_zero=True))
+        set_(self, "circulatory", _matrix(self.circulatory, n, "circulatory", default_zero=True))
+        if np.linalg.cond(self.mass) > 1e14:
+            raise ParameterError("mass is singular: every coordinate needs inertia (a massless station?)")
+        names = self.coordinate_names
+        if names is None:
+            names = tuple(f"q{i + 1}" for i in range(n))
+        names = tuple(str(s) for s in names)
+        if len(names) != n or len(set(names)) != n:
+            raise ParameterError(f"coordinate_names={names!r}: expected {n} distinct names")
+        set_(self, "coordinate_names", names)
+        speeds = {}
+        for rotor, value in dict(self.rotor_speeds).items():
+            try:
+                offset, ratio = (float(v) for v in value)
+            except (TypeError, ValueError):
+                raise ParameterError(
+                    f"rotor_speeds[{rotor!r}]={value!r} is invalid: expected (offset rad/s, ratio)") from None
+            speeds[str(rotor)] = (offset, ratio)
+        if not speeds:
+            raise ParameterError("rotor_speeds is empty: expected at least one rotor, e.g. {'rotor': (0.0, 1.0)}")
+        set_(self, "rotor_speeds", speeds)
+        first = next(iter(speeds))
+        stations = {s: first for s in self.stations}
+        if self.station_rotors is not None:
+            for s, r in dict(self.station_rotors).items():
+                if str(r) not in speeds:
+                    raise ParameterError(f"station_rotors[{s!r}]={r!r} is not a rotor: expected one of {list(speeds)}")
+                stations[str(s)] = str(r)
+        set_(self, "station_rotors", stations)
+        if self.station_positions is not None:
+            set_(self, "station_positions", {str(s): float(z) for s, z in dict(self.station_positions).items()})
+
+    @property
+    def n(self):
+        return len(self.coordinate_names)
+
+    @property
+    def stations(self):
+        """Stations with an ``x<s>`` and a ``y<s>`` coordinate (str), in order."""
+        return tuple(s for s, _, _ in station_pairs(self.coordinate_names))
+
+    def station_index(self, station):
+        """``(i_x, i_y)`` of a station's coordinates."""
+        for s, ix, iy in station_pairs(self.coordinate_names):
+            if s == str(station):
+                return ix, iy
+        raise ParameterError(f"station={station!r} is unknown: expected one of {list(self.stations)}")
+
+    def coordinate_index(self, name):
+        try:
+            return self.coordinate_names.index(str(name))
+        except ValueError:
+            raise ParameterError(
+                f"coordinate {name!r} is unknown: expected one of {', '.join(self.coordinate_names)}") from None
+
+    def spin_speeds(self, speed):
+        """Rotor -> spin speed (rad/s) at the swept speed ``speed`` (scalar or array)."""
+        return {r: off + ratio * np.asarray(speed, dtype=float) for r, (off, ratio) in self.rotor_speeds.items()}
+
+    def matrices(self, speed=0.0):
+        """``(M, C + W G, K + W H)`` at the swept speed ``W`` (rad/s)."""
+        w = _speed(speed)
+        return self.mass, self.damping + w * self.gyroscopic, self.stiffness + w * self.circulatory
+
+    def state_matrix(self, speed=0.0):
+        """``A = [[0, I], [-M^-1 K, -M^-1 C]]`` at speed ``W``, shape (2n, 2n)."""
+        M, C, K = self.matrices(speed)
+        n = self.n
+        A = np.zeros((2 * n, 2 * n))
+        A[:n, n:] = np.eye(n)
+        A[n:, :n] = -np.linalg.solve(M, K)
+        A[n:, n:] = -np.linalg.solve(M, C)
+        return A
+
+    def modes(self, speed=0.0, *, left=True):
+        """:class:`~rotorkit.analysis.modal.Modes` at the swept speed ``speed`` (rad/s)."""
+        from .modal import modes_from_state_matrix
+
+        w = _speed(speed)
+        return modes_from_state_matrix(self.state_matrix(w), self.coordinate_names, mass=self.mass, left=left,
+                                       speed=w, station_positions=self.station_positions)
+
+
+def _speed(speed, name="speed"):
+    if isinstance(speed, bool) or not isinstance(speed, numbers.Real) or not np.isfinite(speed):
+        raise ParameterError(f"{name}={speed!r} is invalid: expected a finite speed (rad/s)")
+    return float(speed)
+
+
+def _mass_matrix(system):
+    """The constant part of the derived mass matrix at the system's parameters (eccentricities 0)."""
+    import sympy as sp
+
+    eqs = system.model.equations()
+    M = eqs.linear_mass_matrix()
+    values = system.parameters
+    subs = {}
+    for sym in M.free_symbols:
+        name = str(sym)
+        subs[sym] = 0.0 if name.endswith("_eccentricity") else values[name]
+    return np.array(M.subs(subs).evalf(), dtype=float) if subs else np.array(sp.N(M), dtype=float)
+
+
+def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t=0.0, equilibrium=True,
+                 rub_engaged=None, cage_samples=None, method="auto"):
+    """Linearise a compiled system into a :class:`LinearModel` about a swept speed.
+
+    Parameters
+    ----------
+    system : rotorkit.System
+    speed_parameter : str, optional
+        The swept rotor speed, ``<rotor>_speed`` (default: the first rotor's).
+    speed : float, optional
+        Speed ``W0`` (rad/s) of the linearisation (default: the system's value).
+    speed_step : float, optional
+        ``dW`` for the speed derivatives (default ``max(1, 0.01 |W0|)`` rad/s).
+    t, equilibrium, rub_engaged, cage_samples, method
+        As in :func:`rotorkit.analysis.modes.natural_frequencies`.
+
+    Returns
+    -------
+    LinearModel
+        ``G = dC/dW`` and ``H = dK/dW`` at ``W0``: exact for gyroscopics,
+        a first-order model for speed-dependent bearings (re-linearise far
+        from ``W0``).
+    """
+    from .linearize import _check_system, _rotor_speeds
+    from .modes import DEFAULT_CAGE_SAMPLES, averaged_jacobian
+
+    _check_system(system, "linear_model")
+    available = [p for p in system.parameters if p.endswith("_speed") and p[: -len("_speed")] in system.model.rotors]
+    if speed_parameter is None:
+        if not available:
+            raise ParameterError(f"{system.name!r} has no rotor with its own speed to sweep")
+        speed_parameter = available[0]
+    if speed_parameter not in available:
+        raise ParameterError(f"speed_parameter={speed_parameter!r} is not a rotor speed: expected one of {available}")
+    w0 = system.parameters[speed_parameter] if speed is None else _speed(speed)
+    dw = max(1.0, 0.01 * abs(w0)) if speed_step is None else _speed(speed_step, "speed_step")
+    if dw <= 0:
+        raise ParameterError(f"speed_step={speed_step!r} is invalid: expected a positive speed step (rad/s)")
+    samples = DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples
+    n = len(system.coordinate_names)
+    blocks = []
+    spins = []
+    for w in (w0, w0 + dw):
+        point = system.with_parameters(**{speed_parameter: float(w)})
+        A = averaged_jacobian(point, t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=False,
+                              cage_samples=samples, eps=None, method=method)[0]
+        blocks.append((-A[n:, :n], -A[n:, n:]))
+        spins.append(_rotor_speeds(point))
+    M = _mass_matrix(system)
+    (K0, C0), (K1, C1) = blocks
+    G, H = (C1 - C0) / dw, (K1 - K0) / dw
+    rotor_speeds = {}
+    for r in spins[0]:
+        ratio = (spins[1][r] - spins[0][r]) / dw
+        rotor_speeds[r] = (spins[0][r] - ratio * w0, ratio)
+    station_rotors = {}
+    for s in system.model.stations:
+        station_rotors[str(s)] = system.model.rotor_of(s).name
+    positions = getattr(system.model, "station_positions", None)
+    return LinearModel(
+        mass=M, damping=M @ (C0 - w0 * G), stiffness=M @ (K0 - w0 * H), gyroscopic=M @ G, circulatory=M @ H,
+        coordinate_names=tuple(system.coordinate_names), rotor_speeds=rotor_speeds,
+        station_rotors={s: r for s, r in station_rotors.items() if s in {p[0] for p in station_pairs(system.coordinate_names)}},
+        station_positions=dict(positions) if isinstance(positions, dict) else None,
+        speed_parameter=speed_parameter,
+    )

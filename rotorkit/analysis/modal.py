@@ -1,0 +1,329 @@
+"""Modes of a linear second-order system: frequencies, log decrement, whirl, left/right shapes.
+
+The system is ``M q'' + C q' + K q = 0`` (``C`` holding damping and the
+speed-scaled gyroscopic matrix, ``K`` the stiffness and any cross-coupled,
+circulatory part). Its state matrix ``A = [[0, I], [-M^-1 K, -M^-1 C]]``
+has eigenvalues ``lambda`` in conjugate pairs; a mode is one pair, kept by
+its member with ``Im(lambda) > 0``.
+
+- natural frequency ``|lambda|`` (the undamped one for viscous damping),
+- damped natural frequency ``Im(lambda)``,
+- damping ratio ``zeta = -Re(lambda) / |lambda|``,
+- logarithmic decrement ``delta = -2 pi Re(lambda) / Im(lambda)`` (the
+  log of the ratio of successive peaks of a free decay; negative: unstable),
+- right shape ``x``: ``(lambda^2 M + lambda C + K) x = 0``; left shape
+  ``y``: ``y^H (lambda^2 M + lambda C + K) = 0``, normalised so that
+  ``y^H (2 lambda M + C) x = 1`` (they differ when ``C`` or ``K`` is not
+  symmetric: gyroscopics, cross-coupled bearings),
+- whirl per station and per mode (:mod:`rotorkit.analysis.whirl`).
+
+A double eigenvalue (an isotropic rotor at rest) has no preferred basis;
+the pair is rotated into its backward and forward circular combinations,
+backward first.
+
+Mode numbers are 1-based in every method (mode 1 is the lowest); arrays
+are plain numpy arrays indexed from 0.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from .whirl import BACKWARD, FORWARD, LINEAR, mode_whirl, orbit, station_pairs, whirl_direction
+
+__all__ = ["Modes", "modes_from_state_matrix"]
+
+#: A pair is oscillatory when Im(lambda) exceeds this fraction of |lambda|.
+OSCILLATORY_RTOL = 1e-9
+#: Two eigenvalues closer than this fraction of |lambda| form a double one.
+DOUBLE_RTOL = 1e-7
+
+_FREQUENCY_FACTORS = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
+
+
+def frequency_factor(units, allowed=tuple(_FREQUENCY_FACTORS)):
+    """Factor from rad/s to ``units``."""
+    if not isinstance(units, str) or units not in allowed:
+        raise ParameterError(f"units={units!r} is not supported: expected one of {tuple(allowed)}")
+    return _FREQUENCY_FACTORS[units]
+
+
+def _readonly(array):
+    array = np.array(array)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Modes:
+    """Natural frequencies, damping, whirl and mode shapes of a linear(ised) system.
+
+    Attributes
+    ----------
+    frequencies : numpy.ndarray, shape (k,)
+        Natural frequencies ``|lambda|`` (rad/s), ascending.
+    damping_ratios : numpy.ndarray, shape (k,)
+        ``-Re(lambda) / |lambda|`` (dimensionless); negative for a growing mode.
+    eigenvalues : numpy.ndarray of complex, shape (k,)
+        ``lambda`` (1/s), the member of each conjugate pair with ``Im > 0``.
+    shapes : numpy.ndarray of complex, shape (n, k)
+        Column ``i`` is the right eigenvector (coordinate part) of mode
+        ``i + 1``, in :attr:`coordinate_names` order (m for ``x``/``y``, rad
+        for angles), scaled so that its largest entry is exactly ``1``.
+    coordinate_names : tuple of str, length n
+    operating_point : numpy.ndarray, shape (n,)
+        The coordinates ``q*`` (m, rad) the system was linearised at.
+    frequency_range : numpy.ndarray, shape (k, 2)
+        Lowest and highest value (rad/s) of each frequency over the sampled
+        cage positions (both equal :attr:`frequencies` for one sample).
+    sample_times : numpy.ndarray, shape (m,)
+        Times (s) at which the Jacobian was evaluated and averaged.
+    all_eigenvalues : numpy.ndarray of complex, shape (2n,)
+        Every eigenvalue, real ones included, by ascending ``|lambda|``.
+    rub_engaged : bool
+        Whether a rub contact was engaged in the linearisation.
+    left_shapes : numpy.ndarray of complex, shape (n, k), or None
+        Left eigenvectors ``y`` with ``y^H (2 lambda M + C) x = 1`` for the
+        scaled right shape ``x`` (for a compiled system ``M`` is the identity:
+        the mass-normalised problem ``q'' + M^-1 C q' + M^-1 K q = 0``).
+    speed : float or None
+        The swept rotor speed (rad/s) the modes belong to, if known.
+    station_positions : dict or None
+        Station -> axial position (m), when the model has them.
+
+    Notes
+    -----
+    The arrays are read-only. ``eq=False``: results compare by identity.
+    """
+
+    frequencies: np.ndarray
+    damping_ratios: np.ndarray
+    eigenvalues: np.ndarray
+    shapes: np.ndarray
+    coordinate_names: tuple
+    operating_point: np.ndarray
+    frequency_range: np.ndarray
+    sample_times: np.ndarray
+    all_eigenvalues: np.ndarray
+    rub_engaged: bool = False
+    left_shapes: np.ndarray | None = None
+    speed: float | None = None
+    station_positions: dict | None = None
+
+    def __len__(self):
+        return int(self.frequencies.size)
+
+    @property
+    def damped_frequencies(self):
+        """``Im(lambda)`` (rad/s), shape (k,): the frequency of free decay."""
+        return self.eigenvalues.imag.copy()
+
+    @property
+    def log_decrements(self):
+        """Logarithmic decrement ``-2 pi Re(lambda) / Im(lambda)``, shape (k,); negative: unstable."""
+        return -2.0 * np.pi * self.eigenvalues.real / self.eigenvalues.imag
+
+    @property
+    def stable(self):
+        """True when no mode grows (every ``Re(lambda) <= 0``, real eigenvalues included)."""
+        return bool(np.all(self.all_eigenvalues.real <= 0.0))
+
+    @property
+    def stations(self):
+        """Stations with an ``x`` and a ``y`` coordinate, in model order (str)."""
+        return tuple(s for s, _, _ in station_pairs(self.coordinate_names))
+
+    def _index(self, mode):
+        """0-based column of 1-based ``mode`` (negative numbers count from the highest)."""
+        k = len(self)
+        if isinstance(mode, bool) or not isinstance(mode, numbers.Integral) or mode == 0 or not -k <= mode <= k:
+            raise ParameterError(f"mode {mode!r} is invalid: expected a mode number from 1 to {k}")
+        return int(mode) - 1 if mode > 0 else k + int(mode)
+
+    def shape_of(self, mode):
+        """Mode shape of ``mode`` (1-based) as ``{coordinate name: complex amplitude}`` (largest entry 1)."""
+        i = self._index(mode)
+        return dict(zip(self.coordinate_names, self.shapes[:, i].tolist()))
+
+    def dominant_coordinates(self, mode, count=3):
+        """Names of the ``count`` largest entries of the shape of ``mode`` (1-based), largest first.
+
+        Entries compare as numbers, m against rad.
+        """
+        i = self._index(mode)
+        order = np.argsort(-np.abs(self.shapes[:, i]), kind="stable")
+        return tuple(self.coordinate_names[j] for j in order[:count])
+
+    def orbits(self, mode):
+        """Station -> :class:`~rotorkit.analysis.whirl.Orbit` of ``mode`` (1-based), relative size."""
+        i = self._index(mode)
+        v = self.shapes[:, i]
+        return {s: orbit(v[ix], v[iy]) for s, ix, iy in station_pairs(self.coordinate_names)}
+
+    def station_whirl(self, mode):
+        """Station -> ``"forward"``, ``"backward"`` or ``"linear"`` for ``mode`` (1-based)."""
+        return {s: o.direction for s, o in self.orbits(mode).items()}
+
+    @property
+    def whirl(self):
+        """Per mode: ``"forward"``, ``"backward"``, ``"mixed"`` or ``"linear"`` (no bending motion).
+
+        Stations whose orbit is below 1 % of the mode's largest are ignored.
+        """
+        out = []
+        for mode in range(1, len(self) + 1):
+            orbits = self.orbits(mode)
+            out.append(mode_whirl([o.direction for o in orbits.values()], [o.major for o in orbits.values()]))
+        return tuple(out)
+
+    def table(self, units="rad/s"):
+        """A plain-text table: frequency, damping ratio, log decrement, whirl, dominant coordinates.
+
+        Parameters
+        ----------
+        units : {"rad/s", "Hz", "rpm"}
+            Units of the frequency columns.
+        """
+        factor = frequency_factor(units)
+        head = (f"{'mode':>4}  {f'natural ({units})':>16}  {f'damped ({units})':>15}  {'damping ratio':>13}  "
+                f"{'log dec':>9}  {'whirl':>8}  {f'cage spread ({units})':>23}  dominant coordinates")
+        lines = [head, "-" * len(head)]
+        whirl, logdec = self.whirl, self.log_decrements
+        for i in range(len(self)):
+            lo, hi = self.frequency_range[i] * factor
+            spread = f"{lo:10.4g} - {hi:<10.4g}" if np.isfinite(lo) else f"{'n/a':>23}"
+            lines.append(
+                f"{i + 1:>4}  {self.frequencies[i] * factor:>16.6g}  {self.eigenvalues[i].imag * factor:>15.6g}  "
+                f"{self.damping_ratios[i]:>13.4g}  {logdec[i]:>9.4g}  {whirl[i]:>8}  {spread:>23}  "
+                f"{', '.join(self.dominant_coordinates(i + 1))}"
+            )
+        return "\n".join(lines)
+
+    def to_csv(self, units="rad/s"):
+        """The table as CSV text: mode, natural and damped frequency, damping ratio, log dec, whirl."""
+        factor = frequency_factor(units)
+        rows = [f"mode,natural_frequency_{_slug(units)},damped_frequency_{_slug(units)},damping_ratio,"
+                "log_decrement,whirl"]
+        for i, (w, lam, z, d, kind) in enumerate(zip(self.frequencies, self.eigenvalues, self.damping_ratios,
+                                                     self.log_decrements, self.whirl)):
+            rows.append(f"{i + 1},{w * factor:.10g},{lam.imag * factor:.10g},{z:.10g},{d:.10g},{kind}")
+        return "\n".join(rows) + "\n"
+
+    def plot_mode_shape(self, mode, ax=None, **kwargs):
+        """Whirl orbit sizes of ``mode`` (1-based) along the shaft; returns the matplotlib Axes."""
+        from ..plotting.modes import plot_mode_shape
+
+        return plot_mode_shape(self, mode, ax=ax, **kwargs)
+
+    def plot_orbits(self, mode, ax=None, **kwargs):
+        """3-D view of the whirl orbits of ``mode`` (1-based) along the shaft; returns the Axes."""
+        from ..plotting.modes import plot_mode_orbits
+
+        return plot_mode_orbits(self, mode, ax=ax, **kwargs)
+
+
+def _slug(units):
+    return {"rad/s": "rad_s", "Hz": "Hz", "rpm": "rpm"}[units]
+
+
+def _circularise_pairs(lam, vec, names):
+    """Rotate each double eigenvalue's two vectors into backward and forward circular whirl (backward first)."""
+    pairs = station_pairs(names)
+    if not pairs:
+        return vec
+    ix = np.array([p[1] for p in pairs])
+    iy = np.array([p[2] for p in pairs])
+    k = lam.size
+    i = 0
+    while i < k - 1:
+        if abs(lam[i + 1] - lam[i]) > DOUBLE_RTOL * abs(lam[i]):
+            i += 1
+            continue
+        V = vec[:, i:i + 2].copy()
+        fwd = (V[ix] + 1j * V[iy]) / 2.0  # forward circle of each station, per basis vector
+        bwd = (V[ix] - 1j * V[iy]) / 2.0
+        combos = []
+        for part in (fwd, bwd):  # kill the forward part -> backward vector, and vice versa
+            _, s, vh = np.linalg.svd(part)  # vh is 2 x 2: its last row spans the (near) null space
+            s = np.concatenate([s, np.zeros(2 - s.size)])
+            combos.append(vh.conj()[-1] if s[-1] <= 1e-6 * max(s[0], 1e-300) else None)
+        if all(c is not None for c in combos):
+            vec[:, i] = V @ combos[0]
+            vec[:, i + 1] = V @ combos[1]
+        i += 2
+    return vec
+
+
+def modes_from_state_matrix(A, names, *, mass=None, left=True, **fields):
+    """:class:`Modes` from a state matrix ``A = [[0, I], [-M^-1 K, -M^-1 C]]``.
+
+    Parameters
+    ----------
+    A : numpy.ndarray, shape (2n, 2n)
+    names : tuple of str, length n
+    mass : numpy.ndarray, shape (n, n), optional
+        ``M``, for the normalisation of the left shapes (default identity).
+    left : bool
+        Compute the left eigenvectors (``scipy.linalg.eig(..., left=True)``).
+    **fields
+        Further :class:`Modes` fields (operating point, sample times, speed ...).
+    """
+    from scipy import linalg
+
+    n = len(names)
+    if left:
+        eigenvalues, wl, vr = linalg.eig(A, left=True, right=True)
+    else:
+        eigenvalues, vr = np.linalg.eig(A)
+        wl = None
+    keep = eigenvalues.imag > OSCILLATORY_RTOL * np.abs(eigenvalues)
+    lam = eigenvalues[keep]
+    order = np.argsort(np.abs(lam), kind="stable")
+    lam = lam[order]
+    vec = vr[:n][:, keep][:, order].copy()
+    vec = _circularise_pairs(lam, vec, names)
+    k = lam.size
+    shapes = np.empty((n, k), dtype=complex)
+    for i in range(k):
+        v = vec[:, i]
+        shapes[:, i] = v / v[int(np.argmax(np.abs(v)))]
+    left_shapes = None
+    if wl is not None:
+        C = -A[n:, n:]
+        Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
+        W = wl[n:][:, keep][:, order]
+        Y = np.linalg.solve(Mm.conj().T, W) if mass is not None else W.copy()
+        Cm = Mm @ C
+        left_shapes = np.empty((n, k), dtype=complex)
+        i = 0
+        while i < k:
+            N = 2.0 * lam[i] * Mm + Cm
+            width = 2 if i + 1 < k and abs(lam[i + 1] - lam[i]) <= DOUBLE_RTOL * abs(lam[i]) else 1
+            X, Yi = shapes[:, i:i + width], Y[:, i:i + width]
+            P = Yi.conj().T @ N @ X  # bi-orthonormalise within a double root's eigenspace
+            try:
+                left_shapes[:, i:i + width] = Yi @ np.linalg.inv(P).conj().T
+            except np.linalg.LinAlgError:
+                left_shapes[:, i:i + width] = np.nan  # defective (coalescing) eigenvalue
+            i += width
+    frequencies = np.abs(lam)
+    damping = -lam.real / frequencies if k else np.empty(0)
+    fields.setdefault("frequency_range", np.column_stack([frequencies, frequencies]) if k else np.empty((0, 2)))
+    fields.setdefault("sample_times", np.array([0.0]))
+    fields.setdefault("operating_point", np.zeros(n))
+    return Modes(
+        frequencies=_readonly(frequencies),
+        damping_ratios=_readonly(damping),
+        eigenvalues=_readonly(lam),
+        shapes=_readonly(shapes),
+        coordinate_names=tuple(names),
+        all_eigenvalues=_readonly(eigenvalues[np.argsort(np.abs(eigenvalues), kind="stable")]),
+        left_shapes=None if left_shapes is None else _readonly(left_shapes),
+        **{key: (_readonly(v) if isinstance(v, np.ndarray) else v) for key, v in fields.items()},
+    )
+
