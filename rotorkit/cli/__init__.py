@@ -15,7 +15,8 @@ from .common import parse_assignment
 __all__ = ["main", "build_parser", "parse_assignment", "COMMANDS"]
 
 #: command modules, in the order ``rotorkit --help`` lists them
-COMMANDS = ("run", "equations", "accuracy", "stiffness", "sweep", "validate", "export", "cache", "listing")
+COMMANDS = ("run", "equations", "accuracy", "stiffness", "modes", "campbell", "unbalance", "static", "sweep",
+            "validate", "export", "cache", "listing")
 
 
 def build_parser():

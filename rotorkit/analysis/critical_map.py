@@ -1,0 +1,115 @@
+"""Undamped critical speed map: critical speeds against support stiffness.
+
+For each support stiffness ``k`` the supports' ``x`` and ``y`` stiffness at
+the chosen stations is set to ``k`` on top of the rotor's own stiffness,
+damping is removed, and the critical speeds are where the forward (and
+backward) whirling modes meet the 1x line of their rotor: found with
+:func:`~rotorkit.analysis.campbell.campbell` (mode tracking and root
+finding), so gyroscopic stiffening is included. A rigid-support asymptote
+appears at large ``k``, the rigid-body modes ``~ sqrt(k)`` at small ``k``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+
+__all__ = ["CriticalSpeedMap", "critical_speed_map"]
+
+
+@dataclass(frozen=True, eq=False)
+class CriticalSpeedMap:
+    """Critical speeds (rad/s) against support stiffness (N/m).
+
+    Attributes
+    ----------
+    stiffnesses : numpy.ndarray, shape (n_k,)
+    speeds : numpy.ndarray, shape (n_k, n_crit)
+        The ``n_crit`` lowest forward critical speeds at each stiffness
+        (NaN where fewer were found in the speed range).
+    backward : numpy.ndarray, shape (n_k, n_crit)
+        The same for backward whirl.
+    supports : tuple of str
+        Stations whose support stiffness was varied.
+    bearing_curves : dict
+        Label -> ``(speeds rad/s, stiffness N/m)`` drawn over the map.
+    """
+
+    stiffnesses: np.ndarray
+    speeds: np.ndarray
+    backward: np.ndarray
+    supports: tuple
+    bearing_curves: dict
+
+    def plot(self, ax=None, **kwargs):
+        """Log-log map (:func:`rotorkit.plotting.maps.plot_critical_speed_map`)."""
+        from ..plotting.critical_map import plot_critical_speed_map
+
+        return plot_critical_speed_map(self, ax=ax, **kwargs)
+
+
+def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=4, n_speeds=60,
+                       bearing_curves=None):
+    """Undamped critical speeds of ``rotor`` on supports of stiffness ``k`` at ``supports``.
+
+    Parameters
+    ----------
+    rotor : LinearModel
+        The rotor without (or with, as a baseline) the supports being varied.
+    supports : sequence of station
+        Stations whose ``x`` and ``y`` support stiffness is ``k``.
+    stiffnesses : array_like, shape (n_k,)
+        Support stiffness values (N/m), positive (log-spaced for a log-log map).
+    speed_range : (float, float)
+        Swept speed range (rad/s) searched for 1x crossings.
+    n_critical : int
+        Number of critical speeds kept per whirl direction.
+    n_speeds : int
+        Grid points of each Campbell search (crossings are then located by
+        root finding).
+    bearing_curves : dict, optional
+        Label -> ``(speeds, stiffness)`` of speed-dependent bearings, overlaid.
+
+    Returns
+    -------
+    CriticalSpeedMap
+    """
+    from .campbell import campbell
+    from .linear_model import LinearModel
+
+    if not isinstance(rotor, LinearModel):
+        raise TypeError(f"critical_speed_map: expected a LinearModel, got {type(rotor).__name__}")
+    k = np.array(stiffnesses, dtype=float).reshape(-1)
+    if k.size == 0 or not np.all(np.isfinite(k)) or np.any(k <= 0):
+        raise ParameterError(f"stiffnesses={stiffnesses!r} is invalid: expected positive stiffnesses (N/m)")
+    try:
+        lo, hi = (float(v) for v in speed_range)
+    except (TypeError, ValueError):
+        raise ParameterError(f"speed_range={speed_range!r} is invalid: expected (low, high) in rad/s") from None
+    if not 0 <= lo < hi:
+        raise ParameterError(f"speed_range={speed_range!r} is invalid: expected 0 <= low < high (rad/s)")
+    stations = tuple(str(s) for s in supports)
+    idx = [i for s in stations for i in rotor.station_index(s)]
+    grid = np.linspace(lo, hi, int(n_speeds))
+    fwd = np.full((k.size, int(n_critical)), np.nan)
+    bwd = np.full((k.size, int(n_critical)), np.nan)
+    n_modes = min(rotor.n, 2 * int(n_critical) + 2)
+    for a, value in enumerate(k):
+        K = np.array(rotor.stiffness)
+        K[idx, idx] += value
+        model = LinearModel(mass=rotor.mass, damping=np.zeros_like(K), stiffness=K, gyroscopic=rotor.gyroscopic,
+                            circulatory=rotor.circulatory, coordinate_names=rotor.coordinate_names,
+                            rotor_speeds=rotor.rotor_speeds, station_rotors=rotor.station_rotors,
+                            speed_parameter=rotor.speed_parameter)
+        diagram = campbell(model, grid, n_modes=n_modes)
+        for kind, out in (("forward", fwd), ("backward", bwd)):
+            found = sorted({round(c.speed, 9) for c in diagram.crossings
+                            if (c.whirl == "backward") == (kind == "backward")})
+            found = found[: out.shape[1]]
+            out[a, : len(found)] = found
+    k.setflags(write=False)
+    return CriticalSpeedMap(stiffnesses=k, speeds=fwd, backward=bwd, supports=stations,
+                            bearing_curves=dict(bearing_curves or {}))

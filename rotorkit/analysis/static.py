@@ -1,0 +1,165 @@
+"""Static analysis: deflection under gravity or a steady manoeuvre load, and the support reactions.
+
+:func:`static_deflection` solves the static equilibrium of a compiled
+system at a time ``t`` (:func:`~rotorkit.analysis.linearize.static_equilibrium`:
+gravity, a manoeuvre's load at ``t``, bearings and contacts as they are)
+and evaluates, element by element, the force each support-type element
+(supports, bearings, contacts: every element that is not a rotor, a mass, a
+disk, a shaft or beam, or the load field) exerts on the rotor there:
+``-dV_e/dq + Q_e`` at zero velocity, from the element's own energy terms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .linearize import _check_system, static_equilibrium
+from .whirl import station_pairs
+
+__all__ = ["StaticDeflection", "static_deflection"]
+
+#: element classes that carry the rotor rather than hold it: no reaction is reported for them
+_STRUCTURAL = ("Rotor", "Disk", "LumpedMass", "ShaftSegment", "Maneuver")
+
+
+def _is_structural(element):
+    name = type(element).__name__
+    return name in _STRUCTURAL or any(key in name for key in ("Beam", "Shaft", "Disk", "Mass", "Material"))
+
+
+@dataclass(frozen=True, eq=False)
+class StaticDeflection:
+    """Static deflection and support reactions.
+
+    Attributes
+    ----------
+    deflection : dict of str to float
+        Coordinate -> static value (m, rad).
+    reactions : dict of str to dict
+        Element label -> ``{coordinate: generalised force}`` (N, N m): the
+        force the element exerts on the rotor (the load it carries is its
+        negative); only nonzero entries.
+    t : float
+        Time (s) of the loads.
+    station_positions : dict or None
+    """
+
+    deflection: dict
+    reactions: dict
+    t: float
+    station_positions: dict | None = None
+
+    @property
+    def stations(self):
+        return tuple(s for s, _, _ in station_pairs(tuple(self.deflection)))
+
+    def reaction(self, label, station):
+        """``(Fx, Fy)`` (N) of element ``label`` on ``station``."""
+        from ..errors import ParameterError
+
+        if label not in self.reactions:
+            raise ParameterError(f"label={label!r} carries no load: expected one of {list(self.reactions)}")
+        forces = self.reactions[label]
+        return forces.get(f"x{station}", 0.0), forces.get(f"y{station}", 0.0)
+
+    def table(self, length_units="um"):
+        """Deflection per station and the reactions, as plain text."""
+        from ..plotting.basic import LENGTH_UNITS
+
+        f = LENGTH_UNITS[length_units]
+        lines = [f"{'station':>8}  {f'x ({length_units})':>14}  {f'y ({length_units})':>14}"]
+        for s in self.stations:
+            lines.append(f"{s:>8}  {self.deflection[f'x{s}'] * f:>14.5g}  {self.deflection[f'y{s}'] * f:>14.5g}")
+        lines.append("")
+        lines.append(f"{'element':>14}  {'coordinate':>10}  {'force on rotor (N)':>18}")
+        for label, forces in self.reactions.items():
+            for name, value in forces.items():
+                lines.append(f"{label:>14}  {name:>10}  {value:>18.6g}")
+        return "\n".join(lines)
+
+    def to_csv(self):
+        rows = ["coordinate,deflection_m_or_rad"] + [f"{k},{v:.10g}" for k, v in self.deflection.items()]
+        rows += ["", "element,coordinate,force_on_rotor_N"]
+        rows += [f"{label},{k},{v:.10g}" for label, forces in self.reactions.items() for k, v in forces.items()]
+        return "\n".join(rows) + "\n"
+
+    def plot(self, ax=None, **kwargs):
+        """Deflection along the shaft (:func:`rotorkit.plotting.response.plot_static_deflection`)."""
+        from ..plotting.response import plot_static_deflection
+
+        return plot_static_deflection(self, ax=ax, **kwargs)
+
+
+def _evaluate(expr):
+    """A number from an expression whose symbols are all replaced (rotorkit's contact functions included)."""
+    import math
+
+    from ..codegen.printer import RhsPrinter
+
+    code = RhsPrinter().doprint(expr)
+    return float(eval(code, {"__builtins__": {"max": max, "min": min, "abs": abs}}, vars(math)))
+
+
+def static_deflection(system, t=0.0, **equilibrium):
+    """Static deflection under the loads at ``t`` and the reactions of the supports.
+
+    Parameters
+    ----------
+    system : rotorkit.System
+    t : float
+        Time (s) of the load (a manoeuvre's load at that instant; gravity).
+    **equilibrium
+        Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`.
+
+    Returns
+    -------
+    StaticDeflection
+
+    Examples
+    --------
+    >>> from rotorkit import Rotor, Disk, ElasticSupport, Maneuver, Model
+    >>> system = Model([Rotor(name="R", stations=(1,), speed=0.0), Disk(station=1, mass=2.0, radius=0.1),
+    ...                 ElasticSupport(station=1, stiffness=2e4), Maneuver.steady(gravity=9.81)]).compile(
+    ...                 backend="python")
+    >>> s = static_deflection(system)
+    >>> round(s.deflection["y1"] * 1e6, 3), round(s.reaction("support1", 1)[1], 6)   # -m g / k, m g
+    (-981.0, 19.62)
+    """
+    import sympy as sp
+
+    from ..model import Context
+    from ..symbolic.lagrange import Symbols
+
+    _check_system(system, "static_deflection")
+    q = static_equilibrium(system, t, **equilibrium)
+    names = tuple(system.coordinate_names)
+    model = system.model
+    symbols = Symbols(model)
+    ctx = Context(model, symbols)
+    values = {symbols.parameters[k]: sp.Float(v) for k, v in system.parameters.items()}
+    values.update({sym: sp.Float(0) for name, sym in symbols.parameters.items() if name.endswith("_eccentricity")})
+    values.update({symbols.coordinates[n]: sp.Float(float(v)) for n, v in zip(names, q)})
+    values.update({s: sp.Float(0) for s in symbols.speeds.values()})
+    values[symbols.t] = sp.Float(float(t))
+    reactions = {}
+    for element in model.elements:
+        if _is_structural(element):
+            continue
+        terms = element.contribute(ctx.bind(element))
+        V = sp.sympify(terms.potential)
+        forces = {}
+        for name in names:
+            sym = symbols.coordinates[name]
+            expr = -sp.diff(V, sym) if V != 0 and sym in V.free_symbols else sp.S.Zero
+            expr += terms.loads.get(sym, sp.S.Zero)
+            if expr != 0:
+                value = _evaluate(sp.sympify(expr).xreplace(values))
+                if value != 0.0:
+                    forces[name] = value
+        if forces:
+            reactions[element.label()] = forces
+    positions = getattr(model, "station_positions", None)
+    return StaticDeflection(deflection=dict(zip(names, (float(v) for v in q))), reactions=reactions, t=float(t),
+                            station_positions=dict(positions) if isinstance(positions, dict) else None)

@@ -1,0 +1,230 @@
+"""Steady unbalance response in the frequency domain: amplitude, phase, whirl, orbit ellipse.
+
+An unbalance ``U = m e`` (kg m) at a station, at angle ``phi`` on a rotor
+spinning at ``w`` (x towards y), loads the station with::
+
+    Fx = U w^2 cos(w t + phi),   Fy = U w^2 sin(w t + phi)
+
+i.e. complex amplitudes ``Fx = U w^2 e^{i phi}``, ``Fy = -i U w^2 e^{i phi}``
+(``f(t) = Re(F e^{i w t})``). Each rotor's unbalances excite at that rotor's
+own spin speed (dual rotors: two frequencies at every swept speed), so the
+response is kept per rotor. The steady response of every coordinate solves
+``(K + W H - w^2 M + i w (C + W G)) Q = F`` at each swept speed ``W`` (see
+:mod:`rotorkit.analysis.harmonic`: direct banded or batched solve).
+
+A coordinate then moves as ``|Q| cos(w t + arg Q)``: :meth:`UnbalanceResponse.phase`
+is ``arg Q`` and the phase lag behind the unbalance is ``phi - arg Q``
+(90 degrees at a Jeffcott rotor's resonance).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from .whirl import orbit
+
+__all__ = ["Unbalance", "UnbalanceResponse", "unbalance_response"]
+
+
+@dataclass(frozen=True, slots=True)
+class Unbalance:
+    """An unbalance ``magnitude`` (kg m) at ``station``, at ``angle`` (rad) from x at t = 0."""
+
+    station: object
+    magnitude: float
+    angle: float = 0.0
+
+    def __post_init__(self):
+        for name in ("magnitude", "angle"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
+                raise ParameterError(f"Unbalance {name}={v!r} is invalid: expected a finite number "
+                                     f"({'kg m' if name == 'magnitude' else 'rad'})")
+        if self.magnitude < 0:
+            raise ParameterError(f"Unbalance magnitude={self.magnitude!r} is invalid: expected >= 0 (kg m)")
+
+
+@dataclass(frozen=True, eq=False)
+class UnbalanceResponse:
+    """Complex steady amplitudes of every coordinate against the swept speed.
+
+    Attributes
+    ----------
+    speeds : numpy.ndarray, shape (n_speeds,)
+        Swept speed (rad/s).
+    coordinate_names : tuple of str
+    components : dict of str to numpy.ndarray of complex, shape (n_speeds, n)
+        Rotor -> amplitudes (m, rad) of the response at that rotor's spin.
+    frequencies : dict of str to numpy.ndarray, shape (n_speeds,)
+        Rotor -> excitation frequency (rad/s): its spin speed.
+    speed_parameter : str
+    unbalances : tuple of Unbalance
+    method : str
+        ``"banded"`` or ``"dense"``: how the harmonic systems were solved.
+    """
+
+    speeds: np.ndarray
+    coordinate_names: tuple
+    components: dict
+    frequencies: dict
+    speed_parameter: str
+    unbalances: tuple
+    method: str
+
+    def _rotor(self, rotor):
+        if rotor is None:
+            if len(self.components) == 1:
+                return next(iter(self.components))
+            raise ParameterError(f"rotor=None is ambiguous: the unbalances excite {list(self.components)}; "
+                                 "pick one (each spool responds at its own speed)")
+        if rotor not in self.components:
+            raise ParameterError(f"rotor={rotor!r} has no unbalance response: expected one of {list(self.components)}")
+        return rotor
+
+    def response(self, coordinate, rotor=None):
+        """Complex amplitude (m, rad) of ``coordinate`` (e.g. ``"x2"``), shape (n_speeds,)."""
+        rotor = self._rotor(rotor)
+        try:
+            i = self.coordinate_names.index(str(coordinate))
+        except ValueError:
+            raise ParameterError(f"coordinate={coordinate!r} is unknown: expected one of "
+                                 f"{', '.join(self.coordinate_names)}") from None
+        return self.components[rotor][:, i]
+
+    def amplitude(self, coordinate, rotor=None):
+        """``|Q|`` (m, rad) of ``coordinate``, shape (n_speeds,)."""
+        return np.abs(self.response(coordinate, rotor))
+
+    def phase(self, coordinate, rotor=None):
+        """``arg Q`` (rad): the coordinate moves as ``|Q| cos(w t + arg Q)``."""
+        return np.angle(self.response(coordinate, rotor))
+
+    def orbit(self, station, rotor=None):
+        """:class:`~rotorkit.analysis.whirl.Orbit` of ``station`` at each speed: forward/backward radii,
+        semi-axes (m) and inclination (rad) of the ellipse."""
+        return orbit(self.response(f"x{station}", rotor), self.response(f"y{station}", rotor))
+
+    def to_csv(self, station, rotor=None):
+        """CSV text: speed, x and y amplitude (m) and phase (deg), forward/backward radii, ellipse."""
+        rotor = self._rotor(rotor)
+        o = self.orbit(station, rotor)
+        x, y = self.response(f"x{station}", rotor), self.response(f"y{station}", rotor)
+        rows = [f"{self.speed_parameter}_rad_s,frequency_rad_s,x_amplitude_m,x_phase_deg,y_amplitude_m,y_phase_deg,"
+                "forward_m,backward_m,major_m,minor_m,inclination_deg"]
+        for i, w in enumerate(self.speeds):
+            rows.append(",".join(f"{v:.10g}" for v in (
+                w, self.frequencies[rotor][i], abs(x[i]), np.degrees(np.angle(x[i])), abs(y[i]),
+                np.degrees(np.angle(y[i])), o.forward[i], o.backward[i], o.major[i], o.minor[i],
+                np.degrees(o.inclination[i]))))
+        return "\n".join(rows) + "\n"
+
+    def plot_bode(self, coordinate, rotor=None, axes=None, **kwargs):
+        """Amplitude and phase against speed (:func:`rotorkit.plotting.response.plot_bode`)."""
+        from ..plotting.response import plot_unbalance_bode
+
+        return plot_unbalance_bode(self, coordinate, rotor=rotor, axes=axes, **kwargs)
+
+    def plot_polar(self, coordinate, rotor=None, ax=None, **kwargs):
+        """Polar (Nyquist) plot of the response (:func:`rotorkit.plotting.response.plot_polar`)."""
+        from ..plotting.response import plot_unbalance_polar
+
+        return plot_unbalance_polar(self, coordinate, rotor=rotor, ax=ax, **kwargs)
+
+
+def _unbalances(items):
+    if isinstance(items, Unbalance):
+        items = [items]
+    out = []
+    try:
+        for u in items:
+            if isinstance(u, Unbalance):
+                out.append(u)
+            elif isinstance(u, dict):
+                out.append(Unbalance(**u))
+            else:
+                out.append(Unbalance(*u))
+    except TypeError as exc:
+        raise ParameterError(f"unbalances={items!r} is invalid: expected Unbalance(station, magnitude kg m, "
+                             f"angle rad) items or (station, magnitude, angle) tuples") from exc
+    if not out:
+        raise ParameterError("unbalances is empty: expected at least one Unbalance(station, magnitude, angle)")
+    return tuple(out)
+
+
+def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisation):
+    """Steady response to a set of unbalances over a range of the swept speed.
+
+    Parameters
+    ----------
+    model : LinearModel or rotorkit.System
+        A system is linearised first (:func:`~rotorkit.analysis.linear_model.linear_model`
+        with ``**linearisation``: speed, speed_parameter, ...).
+    unbalances : Unbalance or sequence of Unbalance or (station, magnitude, angle)
+        Magnitudes in kg m, angles in rad; each belongs to its station's rotor.
+    speeds : array_like, shape (n_speeds,)
+        Swept speed (rad/s).
+    method : {"auto", "banded", "dense"}
+        See :mod:`rotorkit.analysis.harmonic`.
+
+    Returns
+    -------
+    UnbalanceResponse
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rotorkit.analysis.linear_model import LinearModel
+    >>> jeffcott = LinearModel(mass=2.0 * np.eye(2), damping=4.0 * np.eye(2), stiffness=2e4 * np.eye(2),
+    ...                        coordinate_names=("x1", "y1"))
+    >>> r = unbalance_response(jeffcott, [Unbalance(station=1, magnitude=1e-4)], [100.0])
+    >>> round(float(r.amplitude("x1")[0]), 9), round(float(np.degrees(r.phase("x1")[0])), 6)
+    (0.0025, -90.0)
+    """
+    from .harmonic import solve_harmonic
+    from .linear_model import LinearModel, linear_model
+
+    if not isinstance(model, LinearModel):
+        model = linear_model(model, **linearisation)
+    elif linearisation:
+        raise TypeError(f"unbalance_response: unexpected keywords {sorted(linearisation)} for a LinearModel")
+    items = _unbalances(unbalances)
+    try:
+        W = np.array(speeds, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"speeds={speeds!r} is invalid: expected speeds (rad/s)") from exc
+    if W.size == 0 or not np.all(np.isfinite(W)):
+        raise ParameterError("speeds is empty or not finite: expected finite speeds (rad/s)")
+    if method not in ("auto", "banded", "dense"):
+        raise ParameterError(f"method={method!r} is unknown: expected 'auto', 'banded' or 'dense'")
+    n = model.n
+    by_rotor = {}
+    for u in items:
+        ix, iy = model.station_index(u.station)
+        rotor = model.station_rotors[str(u.station)]
+        F = by_rotor.setdefault(rotor, np.zeros(n, dtype=complex))
+        F[ix] += u.magnitude * np.exp(1j * u.angle)
+        F[iy] += -1j * u.magnitude * np.exp(1j * u.angle)
+    spins = model.spin_speeds(W)
+    from .harmonic import BANDED_FRACTION, band_structure
+
+    _, lo, up = band_structure(model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory)
+    used = method if method != "auto" else ("banded" if lo + up + 1 <= BANDED_FRACTION * n else "dense")
+    components, frequencies = {}, {}
+    for rotor, F in by_rotor.items():
+        w = np.abs(spins[rotor])
+        forces = (w * w)[:, None, None] * F[None, :, None]
+        if np.any(spins[rotor] < 0):
+            raise ParameterError(f"rotor {rotor!r} spins backwards at some speeds: expected non-negative spin")
+        Q = solve_harmonic(model, W, w, forces, method=used)[:, :, 0]
+        Q.setflags(write=False)
+        components[rotor] = Q
+        frequencies[rotor] = w
+    W.setflags(write=False)
+    return UnbalanceResponse(speeds=W, coordinate_names=model.coordinate_names, components=components,
+                             frequencies=frequencies, speed_parameter=model.speed_parameter, unbalances=items,
+                             method=used)

@@ -1,0 +1,31 @@
+"""``rotorkit campbell``: Campbell and stability diagrams, critical speeds, instability onset."""
+
+from .common import save_figure
+from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds, write_text
+
+
+def register(sub):
+    p = sub.add_parser("campbell", help="Campbell and stability diagrams with critical speeds located")
+    add_linear_arguments(p, speeds=True)
+    p.add_argument("--modes", type=int, default=6, help="number of tracked modes (default 6)")
+    p.add_argument("--orders", type=float, nargs="+", default=[1.0], help="excitation orders (default 1)")
+    p.add_argument("--cage-samples", type=int, default=4, help="cage positions averaged per speed (default 4)")
+    p.set_defaults(func=main)
+
+
+def main(args):
+    from ..analysis.campbell import campbell
+
+    system, parameter = compiled_scene(args)
+    speeds = parse_speeds(args.speeds, system.parameters[parameter])
+    diagram = campbell(system, speeds, n_modes=args.modes, speed_parameter=parameter, orders=args.orders,
+                       cage_samples=args.cage_samples)
+    out = output_folder(args, "campbell")
+    print(diagram.table(units=args.units))
+    onset = diagram.instability_onset
+    print("stable over the whole range" if onset is None else f"instability onset at {parameter} = {onset:.6g} rad/s")
+    write_text(out / "campbell.csv", diagram.to_csv(units=args.units))
+    save_figure(diagram.plot(units=args.units).figure, out / "campbell.png")
+    save_figure(diagram.plot_stability(units=args.units).figure, out / "stability.png")
+    print(f"wrote campbell.csv, campbell.png and stability.png to {out}")
+    return 0

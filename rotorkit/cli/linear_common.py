@@ -1,0 +1,62 @@
+"""Options shared by the linear-analysis commands (modes, campbell, unbalance, static)."""
+
+from pathlib import Path
+
+from ..errors import ParameterError
+from .common import add_scene_arguments
+
+__all__ = ["add_linear_arguments", "output_folder", "parse_speeds", "write_text", "compiled_scene"]
+
+
+def add_linear_arguments(parser, *, speeds=False):
+    add_scene_arguments(parser)
+    parser.add_argument("--out", help="output folder for figures and CSV (default rotorkit-out/<preset>)")
+    parser.add_argument("--units", default="rad/s", choices=("rad/s", "Hz", "rpm"),
+                        help="frequency and speed units of the printed table and the figures (default rad/s)")
+    parser.add_argument("--backend", default="auto", choices=("auto", "python", "numba"),
+                        help="code back end (auto: numba when installed)")
+    parser.add_argument("--speed-parameter", help="swept rotor speed, e.g. LP_speed (default: the first rotor's)")
+    if speeds:
+        parser.add_argument("--speeds", default=None, metavar="START:STOP:COUNT",
+                            help="swept speeds in rad/s, e.g. 200:3000:15 (default: 0.1 to 2 x the current speed)")
+
+
+def output_folder(args, name):
+    out = Path(args.out) if args.out else Path("rotorkit-out") / args.preset
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+def parse_speeds(text, default_top):
+    import numpy as np
+
+    if text is None:
+        top = max(float(default_top), 1.0)
+        return np.linspace(0.1 * top, 2.0 * top, 20)
+    parts = text.split(":")
+    try:
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise ParameterError(f"--speeds {text!r}: expected START:STOP:COUNT in rad/s, e.g. 200:3000:15") from None
+    if not (count >= 2 and stop > start >= 0):
+        raise ParameterError(f"--speeds {text!r}: expected 0 <= START < STOP and COUNT >= 2")
+    return np.linspace(start, stop, count)
+
+
+def write_text(path, text):
+    from ..files import atomic_write_bytes
+
+    atomic_write_bytes(path, text.encode())
+    return path
+
+
+def compiled_scene(args):
+    from .common import load_preset
+
+    _, model, _ = load_preset(args)
+    system = model.compile(backend=args.backend)
+    available = [p for p in system.parameters if p.endswith("_speed") and p[: -len("_speed")] in model.rotors]
+    parameter = args.speed_parameter or (available[0] if available else None)
+    if parameter not in available:
+        raise ParameterError(f"--speed-parameter {parameter!r}: expected one of {available}")
+    return system, parameter

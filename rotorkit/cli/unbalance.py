@@ -1,0 +1,71 @@
+"""``rotorkit unbalance``: steady unbalance response (Bode, polar, orbit ellipse) over a speed range."""
+
+import math
+
+from ..errors import ParameterError
+from .common import save_figure
+from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds, write_text
+
+
+def register(sub):
+    p = sub.add_parser("unbalance", help="steady unbalance response over speed: Bode, polar and CSV")
+    add_linear_arguments(p, speeds=True)
+    p.add_argument("--unbalance", action="append", default=[], metavar="STATION:KG_M[:DEG]",
+                   help="an unbalance (kg m) at a station and angle in degrees; repeat for several "
+                        "(default: each disk's mass x eccentricity at its phase)")
+    p.add_argument("--station", action="append", default=[], help="station whose response is written (default all)")
+    p.set_defaults(func=main)
+
+
+def _parse(text):
+    parts = text.split(":")
+    try:
+        station, magnitude = parts[0], float(parts[1])
+        angle = math.radians(float(parts[2])) if len(parts) > 2 else 0.0
+    except (ValueError, IndexError):
+        raise ParameterError(f"--unbalance {text!r}: expected STATION:KG_M[:DEG], e.g. 2:1e-5:90") from None
+    return station, magnitude, angle
+
+
+def _disk_unbalances(system):
+    from ..elements import Disk
+
+    values = system.parameters
+    out = []
+    for e in system.model.elements:
+        if isinstance(e, Disk):
+            label = e.label()
+            u = values[f"{label}_mass"] * values[f"{label}_eccentricity"]
+            if u > 0:
+                out.append((str(e.station), u, values[f"{label}_phase"]))
+    return out
+
+
+def main(args):
+    from ..analysis.linear_model import linear_model
+    from ..analysis.unbalance import unbalance_response
+
+    system, parameter = compiled_scene(args)
+    items = [_parse(u) for u in args.unbalance] or _disk_unbalances(system)
+    if not items:
+        raise ParameterError("no unbalance: the scene's disks have zero eccentricity; give --unbalance STATION:KG_M")
+    speeds = parse_speeds(args.speeds, system.parameters[parameter])
+    model = linear_model(system, speed_parameter=parameter)
+    response = unbalance_response(model, items, speeds)
+    out = output_folder(args, "unbalance")
+    factor = {"rad/s": 1.0, "Hz": 1 / (2 * math.pi), "rpm": 60 / (2 * math.pi)}[args.units]
+    stations = args.station or list(model.stations)
+    print(f"unbalance response ({response.method} solve), {len(speeds)} speeds; peaks per station:")
+    print(f"{'rotor':>6}  {'station':>7}  {'peak major semi-axis (um)':>26}  {f'at {parameter} ({args.units})':>26}  whirl")
+    for rotor in response.components:
+        for s in stations:
+            o = response.orbit(s, rotor)
+            i = int(o.major.argmax())
+            print(f"{rotor:>6}  {s:>7}  {o.major[i] * 1e6:>26.5g}  {speeds[i] * factor:>26.6g}  {o.direction[i]}")
+            write_text(out / f"unbalance_{rotor}_{s}.csv", response.to_csv(s, rotor))
+            top, _ = response.plot_bode(f"x{s}", rotor=rotor, units=args.units)
+            save_figure(top.figure, out / f"bode_{rotor}_x{s}.png")
+            save_figure(response.plot_polar(f"x{s}", rotor=rotor, units=args.units).figure,
+                        out / f"polar_{rotor}_x{s}.png")
+    print(f"wrote CSV, Bode and polar figures to {out}")
+    return 0

@@ -1,0 +1,48 @@
+"""Critical speed map (:mod:`rotorkit.analysis.critical_map`)."""
+
+import math
+
+import numpy as np
+
+from .basic import new_axes
+
+__all__ = ["plot_critical_speed_map"]
+
+_SPEED = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
+
+
+def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
+    """Critical speeds against support stiffness on log-log axes, bearing curves overlaid.
+
+    Parameters
+    ----------
+    cmap : rotorkit.analysis.critical_map.CriticalSpeedMap
+    ax : matplotlib.axes.Axes, optional
+    units : {"rad/s", "Hz", "rpm"}
+        Unit of the speed axis.
+    show_backward : bool
+        Also draw the backward critical speeds (dashed).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if units not in _SPEED:
+        from ..errors import ParameterError
+
+        raise ParameterError(f"units={units!r} is unknown; expected one of {list(_SPEED)}")
+    f = _SPEED[units]
+    ax = new_axes(ax, figsize=(6.0, 4.5))
+    for j in range(cmap.speeds.shape[1]):
+        ax.loglog(cmap.stiffnesses, cmap.speeds[:, j] * f, "-", color=f"C{j % 10}", lw=1.4,
+                  label=f"critical speed {j + 1}")
+        if show_backward:
+            ax.loglog(cmap.stiffnesses, cmap.backward[:, j] * f, "--", color=f"C{j % 10}", lw=1.0)
+    for i, (label, (speeds, stiffness)) in enumerate(cmap.bearing_curves.items()):
+        ax.loglog(np.asarray(stiffness), np.asarray(speeds) * f, "k" + ":-."[i % 2], lw=1.2, label=label)
+    ax.set_xlabel("support stiffness (N/m)")
+    ax.set_ylabel(f"critical speed ({units})")
+    ax.set_title(f"undamped critical speed map (supports at {', '.join(cmap.supports)})", fontsize=9)
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=7)
+    return ax

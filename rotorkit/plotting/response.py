@@ -1,0 +1,138 @@
+"""Bode, polar and FRF plots (:mod:`rotorkit.analysis.unbalance`, :mod:`rotorkit.analysis.frf`)."""
+
+import math
+
+import numpy as np
+
+from .basic import LENGTH_UNITS, new_axes
+
+__all__ = ["plot_unbalance_bode", "plot_unbalance_polar", "plot_frf", "plot_static_deflection"]
+
+_SPEED = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
+
+
+def _check(table, units, name="units"):
+    if units not in table:
+        from ..errors import ParameterError
+
+        raise ParameterError(f"{name}={units!r} is unknown; expected one of {list(table)}")
+    return table[units]
+
+
+def _two_axes(axes, figsize=(6.5, 5.0)):
+    if axes is not None:
+        return axes
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    top = fig.add_subplot(2, 1, 1)
+    return top, fig.add_subplot(2, 1, 2, sharex=top)
+
+
+def plot_unbalance_bode(response, coordinate, *, rotor=None, axes=None, units="rad/s", length_units="um",
+                        log=True):
+    """Amplitude and phase of one coordinate's unbalance response against speed.
+
+    Parameters
+    ----------
+    response : rotorkit.analysis.unbalance.UnbalanceResponse
+    coordinate : str
+        E.g. ``"x2"``.
+    rotor : str, optional
+        Which spool's component (required when several rotors carry unbalance).
+    axes : (Axes, Axes), optional
+    units : {"rad/s", "Hz", "rpm"}
+        Speed axis.
+    length_units : {"m", "mm", "um"}
+    log : bool
+        Logarithmic amplitude axis.
+
+    Returns
+    -------
+    (matplotlib.axes.Axes, matplotlib.axes.Axes)
+    """
+    fs, fl = _check(_SPEED, units), _check(LENGTH_UNITS, length_units, "length_units")
+    top, bottom = _two_axes(axes)
+    x = response.speeds * fs
+    top.plot(x, response.amplitude(coordinate, rotor) * fl, "-", lw=1.3)
+    if log:
+        top.set_yscale("log")
+    top.set_ylabel(f"|{coordinate}| ({length_units})")
+    top.set_title(f"unbalance response of {coordinate}")
+    bottom.plot(x, np.degrees(np.unwrap(response.phase(coordinate, rotor))), "-", lw=1.3)
+    bottom.set_ylabel(f"phase of {coordinate} (deg)")
+    bottom.set_xlabel(f"{response.speed_parameter} ({units})")
+    for ax in (top, bottom):
+        ax.grid(True, lw=0.3)
+    return top, bottom
+
+
+def plot_unbalance_polar(response, coordinate, *, rotor=None, ax=None, length_units="um", units="rad/s"):
+    """The complex response of one coordinate over speed in its complex plane (polar plot).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    fl = _check(LENGTH_UNITS, length_units, "length_units")
+    fs = _check(_SPEED, units)
+    ax = new_axes(ax, figsize=(5.0, 5.0))
+    z = response.response(coordinate, rotor) * fl
+    ax.plot(z.real, z.imag, "-", lw=1.3)
+    for i in np.linspace(0, z.size - 1, min(z.size, 6)).astype(int):
+        ax.annotate(f"{response.speeds[i] * fs:.4g}", (z.real[i], z.imag[i]), fontsize=7)
+    ax.plot([0.0], [0.0], "k+")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(f"Re {coordinate} ({length_units})")
+    ax.set_ylabel(f"Im {coordinate} ({length_units})")
+    ax.set_title(f"polar plot of {coordinate} (labels: {response.speed_parameter} in {units})", fontsize=9)
+    ax.grid(True, lw=0.3)
+    return ax
+
+
+def plot_frf(frf, output, input, *, axes=None, units="rad/s"):
+    """Magnitude (log) and phase of one FRF against frequency.
+
+    Returns
+    -------
+    (matplotlib.axes.Axes, matplotlib.axes.Axes)
+    """
+    fs = _check(_SPEED, units)
+    top, bottom = _two_axes(axes)
+    H = frf(output, input)
+    x = frf.frequencies * fs
+    top.semilogy(x, np.abs(H), lw=1.3)
+    top.set_ylabel(f"|{frf.kind}| ({frf.units})")
+    top.set_title(f"{frf.kind} {output}/{input} at speed {frf.speed:g} rad/s")
+    bottom.plot(x, np.degrees(np.angle(H)), lw=1.3)
+    bottom.set_ylabel("phase (deg)")
+    bottom.set_xlabel(f"frequency ({units})")
+    for ax in (top, bottom):
+        ax.grid(True, lw=0.3)
+    return top, bottom
+
+
+def plot_static_deflection(static, ax=None, *, length_units="um"):
+    """Static deflection x and y of every station, with the bearing/support reactions annotated.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    fl = _check(LENGTH_UNITS, length_units, "length_units")
+    ax = new_axes(ax, figsize=(6.5, 3.5))
+    stations = static.stations
+    if static.station_positions and all(s in static.station_positions for s in stations):
+        pos, label = np.array([static.station_positions[s] for s in stations]), "axial position (m)"
+    else:
+        pos, label = np.arange(len(stations), dtype=float), "station"
+        ax.set_xticks(pos, list(stations))
+    for axis, style in (("x", "-o"), ("y", "-s")):
+        ax.plot(pos, [static.deflection[f"{axis}{s}"] * fl for s in stations], style, ms=4, label=axis)
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.set_xlabel(label)
+    ax.set_ylabel(f"static deflection ({length_units})")
+    ax.set_title("static deflection")
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=8)
+    return ax
