@@ -250,3 +250,20 @@ def test_bad_linear_model_raises(kwargs, match):
 def test_bad_speed_raises():
     with pytest.raises(ParameterError, match="speed=nan"):
         jeffcott_linear().modes(float("nan"))
+
+
+def test_sparse_lowest_modes_agree_with_the_dense_solution():
+    from test_analysis_unbalance import chain
+
+    model = chain(80)
+    dense = model.modes(300.0)
+    sparse = model.modes(300.0, n_modes=6)
+    k = 6
+    np.testing.assert_allclose(sparse.eigenvalues[:k], dense.eigenvalues[:k], rtol=1e-9)
+    assert sparse.whirl[:k] == dense.whirl[:k]
+    M, C, K = model.matrices(300.0)
+    for i in range(k):
+        lam, x, y = sparse.eigenvalues[i], sparse.shapes[:, i], sparse.left_shapes[:, i]
+        Q = lam**2 * M + lam * C + K
+        assert np.linalg.norm(y.conj() @ Q) < 1e-8 * np.linalg.norm(Q) * np.linalg.norm(y)
+        assert abs(y.conj() @ (2 * lam * M + C) @ x - 1.0) < 1e-8

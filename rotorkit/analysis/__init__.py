@@ -3,8 +3,15 @@
 - :mod:`rotorkit.analysis.signals`: zero-phase high-pass filtering,
   amplitude spectra, short-time spectra, peak finding and labelling of
   frequencies as orders of the rotor speeds;
-- :mod:`rotorkit.analysis.modes`: static equilibrium, linearisation,
-  natural frequencies, Campbell diagrams;
+- :mod:`rotorkit.analysis.modes`: modal analysis of a compiled system
+  (re-exports :mod:`~rotorkit.analysis.linearize`, :mod:`~rotorkit.analysis.modal`);
+- :mod:`rotorkit.analysis.linear_model`: ``M, C + W G, K + W H`` from
+  matrices or linearised; :mod:`rotorkit.analysis.whirl`: orbits and whirl;
+- :mod:`rotorkit.analysis.campbell`: Campbell and stability diagrams;
+- :mod:`rotorkit.analysis.unbalance`, :mod:`rotorkit.analysis.frf`
+  (solved by :mod:`rotorkit.analysis.harmonic`): unbalance response, FRFs;
+- :mod:`rotorkit.analysis.static`, :mod:`rotorkit.analysis.critical_map`:
+  static deflection and reactions, critical speed map;
 - :mod:`rotorkit.analysis.stiffness`: time scales and the method that fits;
 - :mod:`rotorkit.analysis.loads`: the manoeuvre load on a station;
 - :mod:`rotorkit.analysis.energy`: energy balance along a run.

@@ -208,12 +208,13 @@ def _resolve_system(source, backend):
     )
 
 
-def _solver(target, speed_parameter, options):
+def _solver(target, speed_parameter, options, n_modes=None):
     """(modes_at(speed), spins_at(speed), parameter name) for a LinearModel or a System."""
     from .linear_model import LinearModel
 
     if isinstance(target, LinearModel):
-        return (lambda w: target.modes(w, left=False)), target.spin_speeds, target.speed_parameter
+        wanted = int(n_modes) + 4 if n_modes is not None and target.n > 100 else None  # sparse solve for big models
+        return (lambda w: target.modes(w, left=False, n_modes=wanted)), target.spin_speeds, target.speed_parameter
     from .linearize import _rotor_speeds
     from .modes import natural_frequencies
 
@@ -333,7 +334,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         raise ParameterError(f"orders={orders!r} is invalid: expected positive excitation orders, e.g. (1, 2)")
     options = dict(t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=unbalance,
                    cage_samples=DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples, method=method)
-    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options)
+    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options, n_modes)
 
     count = int(n_modes)
     shape = (w.size, count)

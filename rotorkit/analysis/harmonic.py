@@ -76,20 +76,20 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
     if method == "auto":
         method = "banded" if lower + upper + 1 <= BANDED_FRACTION * n else "dense"
     if method == "banded":
-        Mp, Cp, Kp, Gp, Hp = (A[np.ix_(perm, perm)] for A in (M, C, K, G, H))
         width = lower + upper + 1
-        i_idx, j_idx = np.nonzero(np.abs(np.subtract.outer(np.arange(n), np.arange(n))) <= max(lower, upper))
-        keep = (j_idx - i_idx <= upper) & (i_idx - j_idx <= lower)
-        i_idx, j_idx = i_idx[keep], j_idx[keep]
+        i_idx, j_idx = np.nonzero(np.ones((n, n), dtype=bool) & (
+            (np.subtract.outer(np.arange(n), np.arange(n)) <= lower)
+            & (np.subtract.outer(np.arange(n), np.arange(n)) >= -upper)))
         band_rows = upper + i_idx - j_idx
-        entries = [A[i_idx, j_idx] for A in (Mp, Cp, Kp, Gp, Hp)]
-        ab = np.zeros((width, n), dtype=complex)
+        Mb, Cb, Kb, Gb, Hb = (np.zeros((width, n)) for _ in range(5))  # LAPACK band storage of each matrix
+        for A, band in zip((M, C, K, G, H), (Mb, Cb, Kb, Gb, Hb)):
+            band[band_rows, j_idx] = A[np.ix_(perm, perm)][i_idx, j_idx]
+        rhs_all = (F[perm] if shared else F[:, perm])
         for k in range(w.size):
             W, om = speeds[k], w[k]
-            values = entries[2] + W * entries[4] - om * om * entries[0] + 1j * om * (entries[1] + W * entries[3])
-            ab[band_rows, j_idx] = values
-            rhs = (F if shared else F[k])[perm]
-            out[k][perm] = solve_banded((lower, upper), ab, rhs, check_finite=False)
+            ab = (Kb + W * Hb - om * om * Mb) + 1j * om * (Cb + W * Gb)
+            out[k][perm] = solve_banded((lower, upper), ab, rhs_all if shared else rhs_all[k],
+                                        overwrite_ab=True, check_finite=False)
         return out
     batch = max(1, _BATCH_ENTRIES // max(n * n, 1))
     for start in range(0, w.size, batch):

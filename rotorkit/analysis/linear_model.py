@@ -22,6 +22,7 @@ both spools of a dual rotor follow the swept speed with their own ratio.
 
 from __future__ import annotations
 
+import functools
 import numbers
 from dataclasses import dataclass, field
 
@@ -162,21 +163,33 @@ class LinearModel:
 
     def state_matrix(self, speed=0.0):
         """``A = [[0, I], [-M^-1 K, -M^-1 C]]`` at speed ``W``, shape (2n, 2n)."""
-        M, C, K = self.matrices(speed)
+        w = _speed(speed)
+        minv_k, minv_h, minv_c, minv_g = self._mass_normalised
         n = self.n
         A = np.zeros((2 * n, 2 * n))
         A[:n, n:] = np.eye(n)
-        A[n:, :n] = -np.linalg.solve(M, K)
-        A[n:, n:] = -np.linalg.solve(M, C)
+        A[n:, :n] = -(minv_k + w * minv_h) if w else -minv_k
+        A[n:, n:] = -(minv_c + w * minv_g) if w else -minv_c
         return A
 
-    def modes(self, speed=0.0, *, left=True):
-        """:class:`~rotorkit.analysis.modal.Modes` at the swept speed ``speed`` (rad/s)."""
+    @functools.cached_property
+    def _mass_normalised(self):
+        """``M^-1 K, M^-1 H, M^-1 C, M^-1 G``, computed once (one LU of M)."""
+        from scipy.linalg import lu_factor, lu_solve
+
+        lu = lu_factor(self.mass)
+        return tuple(lu_solve(lu, A) for A in (self.stiffness, self.circulatory, self.damping, self.gyroscopic))
+
+    def modes(self, speed=0.0, *, left=True, n_modes=None):
+        """:class:`~rotorkit.analysis.modal.Modes` at the swept speed ``speed`` (rad/s).
+
+        ``n_modes``: only the lowest ones (sparse shift-invert solve for large models).
+        """
         from .modal import modes_from_state_matrix
 
         w = _speed(speed)
         return modes_from_state_matrix(self.state_matrix(w), self.coordinate_names, mass=self.mass, left=left,
-                                       speed=w, station_positions=self.station_positions)
+                                       n_modes=n_modes, speed=w, station_positions=self.station_positions)
 
 
 def _speed(speed, name="speed"):

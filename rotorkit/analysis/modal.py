@@ -259,7 +259,7 @@ def _circularise_pairs(lam, vec, names):
     return vec
 
 
-def modes_from_state_matrix(A, names, *, mass=None, left=True, **fields):
+def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **fields):
     """:class:`Modes` from a state matrix ``A = [[0, I], [-M^-1 K, -M^-1 C]]``.
 
     Parameters
@@ -270,13 +270,21 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, **fields):
         ``M``, for the normalisation of the left shapes (default identity).
     left : bool
         Compute the left eigenvectors (``scipy.linalg.eig(..., left=True)``).
+    n_modes : int, optional
+        Only the ``n_modes`` modes of smallest ``|lambda|``: for large models
+        found by shift-invert Arnoldi iteration about 0
+        (:func:`scipy.sparse.linalg.eigs`, a sparse LU of ``A``) instead of
+        the full dense eigen-solution; :attr:`Modes.all_eigenvalues` then
+        holds only the computed ones.
     **fields
         Further :class:`Modes` fields (operating point, sample times, speed ...).
     """
     from scipy import linalg
 
     n = len(names)
-    if left:
+    if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
+        eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
+    elif left:
         eigenvalues, wl, vr = linalg.eig(A, left=True, right=True)
     else:
         eigenvalues, vr = np.linalg.eig(A)
@@ -327,3 +335,21 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, **fields):
         **{key: (_readonly(v) if isinstance(v, np.ndarray) else v) for key, v in fields.items()},
     )
 
+
+
+def _lowest_eigenpairs(A, n_modes, left):
+    """Eigenvalues of smallest modulus, right (and left) vectors, by shift-invert Arnoldi about 0."""
+    from scipy import sparse
+    from scipy.sparse.linalg import eigs
+
+    k = min(2 * n_modes + 4, A.shape[0] - 2)
+    S = sparse.csc_matrix(A)
+    lam, vr = eigs(S, k=k, sigma=0.0, which="LM")
+    wl = None
+    if left:
+        mu, wv = eigs(S.T.tocsc(), k=k, sigma=0.0, which="LM")
+        wl = np.empty_like(vr)
+        for i, value in enumerate(lam):  # left vector of lambda: eigenvector of A^T for lambda, conjugated
+            wl[:, i] = np.conj(wv[:, int(np.argmin(np.abs(mu - value)))])
+    # keep whole pairs: drop an eigenvalue whose conjugate was not found
+    return lam, vr, wl
