@@ -160,7 +160,9 @@ class FileScene:
         self.UNITS = dict(self.model.parameter_units)
         self.OUTPUTS = dict(run)
         if "orbit_station" not in run and "bending" not in run:  # default figures: the first disk's station
-            station = next(iter(self.model.disks), self.model.stations[0])
+            from ..elements import Disk
+
+            station = next((e.station for e in self.model.elements if isinstance(e, Disk)), self.model.stations[0])
             self.OUTPUTS.update(orbit_station=station, bending=f"x{station}")
 
     def build(self, **overrides):
