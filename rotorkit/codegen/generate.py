@@ -59,10 +59,9 @@ def mass_blocks(M):
             i = parent[i]
         return i
 
-    for i in range(n):
-        for j in range(i + 1, n):
-            if M[i, j] != 0:
-                parent[find(i)] = find(j)
+    for (i, j), v in M.todok().items():  # the non-zero entries only: O(entries), not O(n^2)
+        if i < j and v != 0:
+            parent[find(i)] = find(j)
     groups = {}
     for i in range(n):
         groups.setdefault(find(i), []).append(i)
@@ -197,8 +196,12 @@ def generate(eom, structure_key="", jacobian=True):
     M = eom.mass_matrix
     F, K, C = eom.nonlinear_forcing(), eom.stiffness, eom.damping
     q, u = eom.coordinates, eom.speeds
-    f = [F[i] - sum((K[i, j] * q[j] for j in range(n) if K[i, j] != 0), sp.S.Zero)
-         - sum((C[i, j] * u[j] for j in range(n) if C[i, j] != 0), sp.S.Zero) for i in range(n)]
+    K_rows, C_rows = [[] for _ in range(n)], [[] for _ in range(n)]
+    for rows, mat, x in ((K_rows, K, q), (C_rows, C, u)):
+        for (i, j), v in sorted(mat.todok().items()):
+            if v != 0:
+                rows[i].append(v * x[j])
+    f = [F[i] - sum(K_rows[i], sp.S.Zero) - sum(C_rows[i], sp.S.Zero) for i in range(n)]
     blocks = mass_blocks(M)
     mass_keys = [(a, b) for block in blocks for a in block for b in block if a <= b and M[a, b] != 0]
 

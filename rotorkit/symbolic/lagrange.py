@@ -15,6 +15,7 @@ so that ``M(q, t) q'' = f(q, q', t)``.
 
 from collections import defaultdict
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import sympy as sp
 
@@ -54,14 +55,16 @@ class EquationsOfMotion:
         q and q' (``x2``, ``x2_dot``, ...).
     parameters : tuple of sympy.Symbol
         In the model's parameter order.
-    mass_matrix : sympy.ImmutableMatrix
-        M(q, t), n x n, symmetric positive definite.
+    mass_matrix : sympy.ImmutableSparseMatrix
+        M(q, t), n x n, symmetric positive definite (sparse, like K, C,
+        loads and the force vectors: a large model stores only its
+        non-zero entries).
     forcing : sympy.ImmutableMatrix
         f(q, q', t) = F - C q' - K q, n x 1 (everything but M q'').
-    stiffness, damping : sympy.ImmutableMatrix
+    stiffness, damping : sympy.ImmutableSparseMatrix
         K and C of the linear part (Hessians of V and D at q = 0).
     forces : dict
-        Element label -> n x 1 matrix of that element's generalised force
+        Element label -> n x 1 sparse matrix of that element's generalised force
         apart from K q and C q' (contact, bearing, manoeuvre, unbalance);
         F is their sum.
     latex_names : dict
@@ -70,7 +73,7 @@ class EquationsOfMotion:
         The model's total T(q, q', t), V(q, t) and Rayleigh D(q') (for
         energy balances: the Jacobi integral ``h = q' dT/dq' - T + V``
         changes at the rate ``-dL/dt - 2 D + Q . q'``).
-    loads : sympy.ImmutableMatrix
+    loads : sympy.ImmutableSparseMatrix
         Sum of the elements' generalised loads Q (n x 1).
     switches : tuple
         (element label, expression) pairs whose zero crossings are kinks of
@@ -113,10 +116,11 @@ class EquationsOfMotion:
 
     def nonlinear_forcing(self):
         """F = f + C q' + K q: the sum of :attr:`forces` (n x 1)."""
-        F = sp.zeros(self.n, 1)
+        terms = defaultdict(list)
         for vec in self.forces.values():
-            F += vec
-        return sp.ImmutableMatrix(F)
+            for (i, _), v in vec.todok().items():
+                terms[i].append(v)
+        return _sparse(self.n, 1, {(i, 0): v for i, v in terms.items()})
 
     def free_parameters(self):
         """Parameters that appear in the equations."""
@@ -151,10 +155,9 @@ class EquationsOfMotion:
                f"q = [{', '.join(q)}]"]
         for title, mat in (("M", self.mass_matrix), ("C", self.damping), ("K", self.stiffness)):
             out.append(f"\n{title} (nonzero entries, symmetric: upper triangle):")
-            for i in range(self.n):
-                for j in range(i, self.n):
-                    if mat[i, j] != 0:
-                        out.append(f"  {title}[{q[i]}, {q[j]}] = {mat[i, j]}")
+            for (i, j), v in sorted(mat.todok().items()):
+                if j >= i and v != 0:
+                    out.append(f"  {title}[{q[i]}, {q[j]}] = {v}")
         for label, vec in self.forces.items():
             out.append(f"\nF from {label}:")
             for i, v in enumerate(vec):
@@ -163,15 +166,25 @@ class EquationsOfMotion:
         return "\n".join(out)
 
 
-def _element_contribution(terms, index, qs, us, t):
-    """Sparse (M, f_inertia_and_loads, f_elastic) of one element's terms."""
+def _local(expr, index):
+    """Indices (into ``index``'s coordinate order) of the symbols of ``index`` that ``expr`` holds, sorted."""
+    if expr == 0:
+        return []
+    return sorted(index[s] for s in expr.free_symbols if s in index)
+
+
+def _element_contribution(terms, q_index, u_index, qs, us, t):
+    """Sparse (M, F, K, C) of one element's terms (F: inertial remainder, loads, non-quadratic elastic part).
+
+    Only the element's own coordinates are visited (found from the free
+    symbols of its terms), so the cost does not grow with the model size.
+    """
     mass = {}
     force = defaultdict(lambda: sp.S.Zero)  # inertial remainder and loads
     elastic = defaultdict(lambda: sp.S.Zero)  # -dV/dq - dD/dq'
     T = sp.sympify(terms.kinetic)
     if T != 0:
-        fs = T.free_symbols
-        u_in = [i for i, u in enumerate(us) if u in fs]
+        u_in = _local(T, u_index)
         for i in u_in:
             p = sp.diff(T, us[i])
             pfs = p.free_symbols
@@ -180,41 +193,133 @@ def _element_contribution(terms, index, qs, us, t):
                     mij = sp.trigsimp(sp.expand(sp.diff(p, us[j])))
                     if mij != 0:
                         mass[(i, j)] = mij
-            rest = sp.diff(p, t) + sum((sp.diff(p, qs[k]) * us[k] for k in range(len(qs)) if qs[k] in pfs), sp.S.Zero)
+            rest = sp.diff(p, t) + sum((sp.diff(p, qs[k]) * us[k] for k in _local(p, q_index)), sp.S.Zero)
             force[i] -= rest
-        for i, q in enumerate(qs):
-            if q in fs:
-                force[i] += sp.diff(T, q)
+        for i in _local(T, q_index):
+            force[i] += sp.diff(T, qs[i])
         for i in list(force):
             force[i] = sp.trigsimp(sp.expand(force[i]))
     V, D = sp.sympify(terms.potential), sp.sympify(terms.dissipation)
-    for i, q in enumerate(qs):
-        if V != 0 and q in V.free_symbols:
-            elastic[i] -= sp.diff(V, q)
+    for i in sorted(set(_local(V, q_index)) | set(_local(D, u_index))):
+        if V != 0 and qs[i] in V.free_symbols:
+            elastic[i] -= sp.diff(V, qs[i])
         if D != 0 and us[i] in D.free_symbols:
             elastic[i] -= sp.diff(D, us[i])
     for q, load in terms.loads.items():
-        force[index[q]] += load
-    return mass, force, elastic
+        force[q_index[q]] += load
+    states = set(qs) | set(us)
+    Ke = _hessian(V, qs, q_index, states)
+    Ce = _hessian(D, us, u_index, states)
+    if elastic:  # whatever of -dV/dq - dD/dq' is not -K q - C q' (none for quadratic V, D)
+        linear = defaultdict(list)
+        for (i, j), v in Ke.items():
+            linear[i].append(v * qs[j])
+        for (i, j), v in Ce.items():
+            linear[i].append(v * us[j])
+        for i, v in elastic.items():
+            rest = sp.expand(v + sp.Add(*linear[i]))
+            if rest != 0:
+                force[i] += rest
+    return mass, {i: v for i, v in force.items() if v != 0}, Ke, Ce
 
 
-def _hessian(expr, variables, n, zero):
-    """Constant Hessian of a (quadratic) scalar, as an n x n matrix."""
-    H = sp.zeros(n, n)
+def _hessian(expr, variables, index, states):
+    """Constant Hessian of a (quadratic) scalar at rest, as a sparse ``{(i, j): value}``.
+
+    ``variables`` are the differentiation variables (indexed by ``index``);
+    every state symbol in ``states`` is set to zero in the result, but only
+    those the expression holds are visited.
+    """
     expr = sp.sympify(expr)
+    H = {}
     if expr == 0:
         return H
-    present = [(i, v) for i, v in enumerate(variables) if v in expr.free_symbols]
-    for i, vi in present:
-        di = sp.diff(expr, vi)
-        for j, vj in present:
-            if vj in di.free_symbols:
-                H[i, j] = sp.diff(di, vj).subs(zero)
+    present = _local(expr, index)
+    for i in present:
+        di = sp.diff(expr, variables[i])
+        for j in present:
+            if variables[j] in di.free_symbols:
+                dij = sp.diff(di, variables[j])
+                zero = {s: 0 for s in dij.free_symbols if s in states}
+                value = dij.subs(zero) if zero else dij
+                if value != 0:
+                    H[(i, j)] = value
     return H
+
+
+class _Templates:
+    """Each element's contribution derived once per form, then renamed for every element of that form.
+
+    An element's terms are written with its coordinates, speeds and
+    parameters renamed to placeholders (ranked by coordinate index and by the
+    element's parameter order); elements whose renamed terms are equal (the
+    50 disks or beam elements of a rotor) share one derivation, renamed back
+    with ``xreplace``. The derivation is equivariant under renaming, so this
+    changes no equation, only the cost.
+    """
+
+    def __init__(self, qs, us, t):
+        self.qs, self.us, self.t = qs, us, t
+        self.q_index = {q: i for i, q in enumerate(qs)}
+        self.u_index = {u: i for i, u in enumerate(us)}
+        self.done = {}
+
+    def _placeholders(self, k):
+        return (sp.Symbol(f"_q{k}", real=True), sp.Symbol(f"_u{k}", real=True))
+
+    def contribution(self, terms, own_parameters):
+        T, V, D = (sp.sympify(e) for e in (terms.kinetic, terms.potential, terms.dissipation))
+        loads = [(q, sp.sympify(v)) for q, v in terms.loads.items()]
+        symbols = set().union(T.free_symbols, V.free_symbols, D.free_symbols, *(v.free_symbols for _, v in loads))
+        symbols |= {q for q, _ in loads}
+        coords = sorted({self.q_index[s] for s in symbols if s in self.q_index}
+                        | {self.u_index[s] for s in symbols if s in self.u_index})
+        rename = {}
+        for k, i in enumerate(coords):
+            rename[self.qs[i]], rename[self.us[i]] = self._placeholders(k)
+        own = [s for s in own_parameters.values() if s in symbols]
+        others = sorted((s for s in symbols if s not in rename and s != self.t and s not in own), key=str)
+        for k, s in enumerate(own + others):
+            rename[s] = sp.Symbol(f"_p{k}", **s.assumptions0)
+        key = (T.xreplace(rename), V.xreplace(rename), D.xreplace(rename),
+               tuple(sorted(((rename[q], v.xreplace(rename)) for q, v in loads), key=lambda kv: str(kv[0]))))
+        local = self.done.get(key)
+        if local is None:
+            qs = tuple(self._placeholders(k)[0] for k in range(len(coords)))
+            us = tuple(self._placeholders(k)[1] for k in range(len(coords)))
+            renamed = SimpleNamespace(kinetic=key[0], potential=key[1], dissipation=key[2], loads=dict(key[3]))
+            local = _element_contribution(renamed, {q: k for k, q in enumerate(qs)},
+                                          {u: k for k, u in enumerate(us)}, qs, us, self.t)
+            self.done[key] = local
+        back = {v: k for k, v in rename.items()}
+
+        def glob(d, pairs=False):
+            if pairs:
+                return {(coords[i], coords[j]): v.xreplace(back) for (i, j), v in d.items()}
+            return {coords[i]: v.xreplace(back) for i, v in d.items()}
+
+        mass, force, Ke, Ce = local
+        return glob(mass, True), glob(force), glob(Ke, True), glob(Ce, True)
+
+
+def _add(target, key, value):
+    """``target[key] += value`` on a dict of term lists (summed once at the end: no quadratic re-flattening)."""
+    target.setdefault(key, []).append(value)
+
+
+def _sparse(n, m, entries):
+    """An immutable sparse n x m sympy matrix from ``{(i, j): [terms]}`` (no cost per zero entry)."""
+    values = {key: sp.Add(*terms) for key, terms in entries.items()}
+    return sp.ImmutableSparseMatrix(n, m, {key: v for key, v in values.items() if v != 0})
 
 
 def derive(model):
     """Derive the equations of motion of ``model`` (cached per structure).
+
+    The work per element is confined to the coordinates it holds and the
+    system matrices are assembled sparsely, so the derivation time grows
+    linearly with the number of elements (``bench/bench_derive.py`` measures
+    the exponent).
 
     Returns
     -------
@@ -230,61 +335,57 @@ def derive(model):
     us = tuple(symbols.speeds.values())
     t = symbols.t
     n = len(qs)
-    index = {q: i for i, q in enumerate(qs)}
-    zero = {s: 0 for s in qs + us}
+    q_index = {q: i for i, q in enumerate(qs)}
+    templates = _Templates(qs, us, t)
     ctx = Context(model, symbols)
-    M = sp.zeros(n, n)
-    K = sp.zeros(n, n)
-    C = sp.zeros(n, n)
-    F = sp.zeros(n, 1)
+    M, K, C, F, loads = {}, {}, {}, {}, {}
     forces = {}
-    q_vec, u_vec = sp.Matrix(qs), sp.Matrix(us)
-    totals = {"kinetic": sp.S.Zero, "potential": sp.S.Zero, "dissipation": sp.S.Zero}
-    loads = sp.zeros(n, 1)
+    totals = {"kinetic": [], "potential": [], "dissipation": []}
     switches = []
     for element in model.elements:
-        terms = element.contribute(ctx.bind(element))
+        bound = ctx.bind(element)
+        terms = element.contribute(bound)
         switches += [(element.label(), sp.sympify(g)) for g in terms.switches]
         for name in totals:
-            totals[name] += sp.sympify(getattr(terms, name))
+            value = sp.sympify(getattr(terms, name))
+            if value != 0:
+                totals[name].append(value)
         for q, load in terms.loads.items():
-            loads[index[q]] += load
-        mass, force, elastic = _element_contribution(terms, index, qs, us, t)
+            _add(loads, (q_index[q], 0), load)
+        mass, force, Ke, Ce = templates.contribution(terms, bound.p)
         for (i, j), mij in mass.items():
-            M[i, j] += mij
+            _add(M, (i, j), mij)
             if i != j:
-                M[j, i] += mij
-        Ke = _hessian(terms.potential, qs, n, zero)
-        Ce = _hessian(terms.dissipation, us, n, zero)
-        K += Ke
-        C += Ce
-        if elastic:  # whatever of -dV/dq - dD/dq' is not -K q - C q' (none for quadratic V, D)
-            linear = -(Ke * q_vec + Ce * u_vec)
-            for i, v in elastic.items():
-                rest = sp.expand(v - linear[i])
-                if rest != 0:
-                    force[i] += rest
-        vec = sp.zeros(n, 1)
-        for i, v in force.items():
-            vec[i] = v
-        if any(v != 0 for v in vec):
-            forces[element.label()] = sp.ImmutableMatrix(vec)
-            F += vec
-    f = F - K * q_vec - C * u_vec
+                _add(M, (j, i), mij)
+        for (i, j), v in Ke.items():
+            _add(K, (i, j), v)
+        for (i, j), v in Ce.items():
+            _add(C, (i, j), v)
+        if force:
+            forces[element.label()] = _sparse(n, 1, {(i, 0): [v] for i, v in force.items()})
+            for i, v in force.items():
+                _add(F, i, v)
+    M, K, C = _sparse(n, n, M), _sparse(n, n, K), _sparse(n, n, C)
+    K_rows, C_rows = defaultdict(list), defaultdict(list)
+    for (i, j), v in K.todok().items():
+        K_rows[i].append(v * qs[j])
+    for (i, j), v in C.todok().items():
+        C_rows[i].append(v * us[j])
+    f = [sp.Add(*F.get(i, ())) - sp.Add(*K_rows[i]) - sp.Add(*C_rows[i]) for i in range(n)]
     eom = EquationsOfMotion(
         t=t,
         coordinates=qs,
         speeds=us,
         parameters=tuple(symbols.parameters.values()),
-        mass_matrix=sp.ImmutableMatrix(M),
-        forcing=sp.ImmutableMatrix(f),
-        stiffness=sp.ImmutableMatrix(K),
-        damping=sp.ImmutableMatrix(C),
+        mass_matrix=M,
+        forcing=sp.ImmutableMatrix(n, 1, f),
+        stiffness=K,
+        damping=C,
         forces=forces,
         latex_names=_latex_names(model, symbols),
-        loads=sp.ImmutableMatrix(loads),
+        loads=_sparse(n, 1, loads),
         switches=tuple(switches),
-        **totals,
+        **{name: sp.Add(*terms) for name, terms in totals.items()},
     )
     _CACHE[key] = eom
     return eom
