@@ -7,23 +7,43 @@ equations with sympy, compile them and simulate.
 ('x1', 'x2', 'x3')
 """
 
-from .elements import (
-    BallBearing,
-    Disk,
-    ElasticSupport,
-    LumpedMass,
-    Maneuver,
-    Rotor,
-    RubStator,
-    ShaftSegment,
-)
+import importlib
+
 from .errors import ParameterError, RotorkitError, SimulationError, TopologyError, UnitError
-from .model import Model
-from .modelfile import load_model
-from .presets import list_presets, preset
-from .result import Result, load_result
-from .simulate import simulate
-from .system import System, available_backends
+
+#: public name -> the submodule defining it, imported on first access (PEP 562), so that
+#: ``import rotorkit`` stays cheap: sympy, numba, scipy and matplotlib load only when used.
+_LAZY = {
+    **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
+                     "ShaftSegment"), "elements"),
+    "Model": "model",
+    "load_model": "modelfile",
+    "preset": "presets",
+    "list_presets": "presets",
+    "Result": "result",
+    "load_result": "result",
+    "simulate": "simulate",
+    "System": "system",
+    "available_backends": "system",
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY[name]}"), name)
+        globals()[name] = value  # later look-ups skip this hook
+        return value
+    try:  # submodules used as attributes, e.g. rotorkit.analysis after a plain `import rotorkit`
+        return importlib.import_module(f"{__name__}.{name}")
+    except ModuleNotFoundError as err:
+        if err.name != f"{__name__}.{name}":
+            raise
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
+
 
 __version__ = "0.1.0"
 
