@@ -14,10 +14,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StiffnessReport", "stiffness_report", "probe_states"]
+__all__ = ["StiffnessReport", "stiffness_report", "probe_states", "fastest_rate", "explicit_step_warning"]
 
 #: above this ratio of fastest to slowest time scale, an implicit method is suggested
 STIFF_RATIO = 1e3
+#: DOP853's stability boundary along the negative real axis (|lambda| h), about
+STABILITY_LIMIT = 3.3
+#: warn an explicit run when stability forces this many steps per output interval ...
+STEPS_PER_OUTPUT = 100.0
+#: ... and at least this many steps over the whole span (shorter runs are cheap whatever limits them)
+MIN_FORCED_STEPS = 1e4
+#: above this many states the spectral radius comes from ARPACK (a few matrix-vector products), not a full eig
+DENSE_EIG_STATES = 200
 
 
 @dataclass(frozen=True)
@@ -93,3 +101,61 @@ def stiffness_report(system, result=None, *, n=40):
         reason = (f"stiffness ratio {ratio:.3g} <= {STIFF_RATIO:g}: oscillatory, not stiff; explicit "
                   "Runge-Kutta (compiled engine) is the fastest choice")
     return StiffnessReport(1 / largest, 1 / smallest, ratio, 3.3 / largest, method, reason)
+
+
+def fastest_rate(jacobian):
+    """Spectral radius ``max |lambda|`` of a Jacobian (1/s).
+
+    A full eigenvalue problem (O(n^3)) only for small systems; above
+    :data:`DENSE_EIG_STATES` states ARPACK finds the largest-magnitude
+    eigenvalue from matrix-vector products.
+    """
+    J = np.asarray(jacobian, dtype=float)
+    if J.shape[0] <= DENSE_EIG_STATES:
+        return float(np.abs(np.linalg.eigvals(J)).max())
+    from scipy.sparse.linalg import ArpackNoConvergence, eigs
+
+    try:
+        lam = eigs(J, k=1, which="LM", tol=1e-3, return_eigenvectors=False, maxiter=50 * J.shape[0])
+    except ArpackNoConvergence as err:
+        lam = err.eigenvalues
+        if lam.size == 0:
+            return float(np.abs(np.linalg.eigvals(J)).max())
+    return float(np.abs(lam).max())
+
+
+def explicit_step_warning(system, t0, t1, y, sample_rate):
+    """Why an explicit run over ``[t0, t1]`` sampled at ``sample_rate`` would crawl, or None.
+
+    What limits an explicit Runge-Kutta step is the fastest time scale of the
+    linearised system (``|lambda_max| h`` inside the stability region), not
+    the ratio to the slowest one: a slow scale (a spool floating in a bearing
+    clearance, a soft support) costs an explicit method nothing. So the check
+    compares the stability-limited step ``3.3 / |lambda_max|`` with the
+    output interval ``1 / sample_rate`` and the span: it warns when stability
+    forces more than :data:`STEPS_PER_OUTPUT` steps per output sample (the
+    fastest scale is far above anything the output resolves) and at least
+    :data:`MIN_FORCED_STEPS` steps in all.
+
+    Cost: one Jacobian and its spectral radius (:func:`fastest_rate`),
+    remembered per system, time and state, so repeated runs (sweeps) pay once.
+    """
+    key = (float(t0), np.asarray(y, dtype=float).tobytes())
+    memo = system.__dict__.setdefault("_fastest_rate_memo", {})
+    if key not in memo:
+        if len(memo) > 64:
+            memo.clear()
+        memo[key] = fastest_rate(system.within(t0, t0 + 1.0).jacobian(t0, y, compiled=False))
+    rate = memo[key]
+    if not rate > 0:
+        return None
+    step = STABILITY_LIMIT / rate
+    per_output = 1.0 / (sample_rate * step)
+    forced = (t1 - t0) / step
+    if per_output < STEPS_PER_OUTPUT or forced < MIN_FORCED_STEPS:
+        return None
+    return (f"{system.name}: the fastest time scale at the start state, {1 / rate:.3g} s, limits an explicit method "
+            f"to steps of about {step:.3g} s: {per_output:.3g} steps per output interval ({1 / sample_rate:.3g} s), "
+            f"{forced:.3g} over the span. If that time scale is not of interest (very stiff contact or links), "
+            "method='Radau' (analytic Jacobian) may take far fewer steps; "
+            "rotorkit.analysis.stiffness.stiffness_report scans a whole run.")
