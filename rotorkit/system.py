@@ -226,10 +226,24 @@ def compile_model(model, backend="auto"):
     module = _MODULES.get(key) or cache.load(key)
     if module is None:
         from .codegen.generate import generate
+        from .progress import announce_if_slow
 
-        module = cache.store(key, generate(model.equations(), key).source)
+        eom = model.equations()
+        with announce_if_slow(f"generating code for {model.name} (first use of this model structure; cached on disk "
+                              "afterwards)"):
+            module = cache.store(key, generate(eom, key).source)
     _MODULES[key] = module
-    core = _numba_function(module, "rhs") if backend == "numba" else module.rhs
+    if backend == "numba":
+        core = _numba_function(module, "rhs")
+        if not core.signatures:  # compile now, with a notice if slow, not silently inside the first run
+            from .engines.rk_numba import CORE_SIGNATURE
+            from .progress import announce_if_slow
+
+            with announce_if_slow(f"compiling {model.name} with numba (first use in this process; numba caches "
+                                  "the machine code on disk)"):
+                core.compile(CORE_SIGNATURE.args)
+    else:
+        core = module.rhs
     return System(model, module, backend, core)
 
 

@@ -1177,7 +1177,14 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
 
     samples = np.full((y0.size, t_eval.size), np.nan)
     y_reached = np.empty_like(y0)
-    loop = _compiled_loop()
+    if _compiled_loop.cache_info().currsize:
+        loop = _compiled_loop()
+    else:
+        from ..progress import announce_if_slow
+
+        with announce_if_slow("loading the compiled integrator (compiled once per installation, ~5-10 s; "
+                              "numba caches it on disk)"):
+            loop = _compiled_loop()
     try:
         status, n_done, t_reached, nfev, n_acc, n_rej = loop(
             core, method_id, t0, t1, y0, p, t_eval, rtol, atol, first_step,

@@ -326,8 +326,16 @@ def derive(model):
     EquationsOfMotion
     """
     key = model.structure_key
-    if key in _CACHE:
-        return _CACHE[key]
+    if key not in _CACHE:
+        from ..progress import announce_if_slow
+
+        with announce_if_slow(f"deriving the equations of {model.name} ({len(model.coordinate_names)} coordinates, "
+                              f"{len(model.elements)} elements)"):
+            _CACHE[key] = _derive(model)
+    return _CACHE[key]
+
+
+def _derive(model):
     from ..model import Context
 
     symbols = Symbols(model)
@@ -387,7 +395,6 @@ def derive(model):
         switches=tuple(switches),
         **{name: sp.Add(*terms) for name, terms in totals.items()},
     )
-    _CACHE[key] = eom
     return eom
 
 
