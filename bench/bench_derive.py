@@ -21,6 +21,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_core import chain_model  # noqa: E402
 
+import os  # noqa: E402
+
+os.environ.setdefault("ROTORKIT_QUIET", "1")  # the bench times the steps itself
 from rotorkit.symbolic import lagrange  # noqa: E402
 
 

@@ -10,9 +10,11 @@ equations with sympy, compile them and simulate.
 import importlib
 
 from .errors import ParameterError, RotorkitError, SimulationError, TopologyError, UnitError
+from .result import Result, load_result  # numpy only
+from .simulate import simulate  # eager: the function must win over the submodule of the same name
 
 #: public name -> the submodule defining it, imported on first access (PEP 562), so that
-#: ``import rotorkit`` stays cheap: sympy, numba, scipy and matplotlib load only when used.
+#: ``import rotorkit`` stays cheap (numpy only): sympy, numba, scipy, pint and matplotlib load when used.
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment"), "elements"),
@@ -20,9 +22,6 @@ _LAZY = {
     "load_model": "modelfile",
     "preset": "presets",
     "list_presets": "presets",
-    "Result": "result",
-    "load_result": "result",
-    "simulate": "simulate",
     "System": "system",
     "available_backends": "system",
 }

@@ -39,6 +39,12 @@ def test_every_public_name_resolves():
     assert rotorkit.analysis.__name__ == "rotorkit.analysis"  # submodules as attributes, as before
 
 
+def test_the_simulate_function_is_not_shadowed_by_its_module():
+    import rotorkit.simulate  # noqa: F401  (an import of the submodule must not replace the function)
+
+    assert callable(rotorkit.simulate) and rotorkit.simulate.__module__ == "rotorkit.simulate"
+
+
 def test_unknown_attribute_is_an_attribute_error():
     with pytest.raises(AttributeError, match="no attribute 'Dsik'"):
         rotorkit.Dsik  # noqa: B018
