@@ -11,7 +11,6 @@ import math
 import numpy as np
 import pytest
 
-import rotorkit as rk
 from rotorkit.errors import ParameterError
 from rotorkit.sweep import (DATASET_NAME, Grid, PointList, Scene, latin_hypercube, load_sweep, parse_order,
                             run_sweep)

@@ -6,7 +6,6 @@ worker only).
 """
 
 import os
-import signal
 import subprocess
 import sys
 import textwrap
