@@ -14,6 +14,7 @@ reason, the solver statistics and the energy-balance residual.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 import re
@@ -107,19 +108,40 @@ def _first_runaway(result, limits):
     return first
 
 
-def _order_amplitude(spectrum, peaks, frequency):
-    """Amplitude of the highest peak within +-max(2 bins, 1 %) of ``frequency`` (interpolated between bins
-    without scalloping loss, see :func:`~rotorkit.analysis.signals.find_peaks`); the largest bin there if no
-    peak; NaN outside the spectrum."""
-    f = spectrum.frequency
+@functools.lru_cache(maxsize=8)
+def _tone_table(taper, n_samples, n_fft):
+    """(offset in bins, normalised taper response, ratio of the two top bins) on a fine grid, once per shape."""
+    from ..analysis.signals import _taper_weights
+
+    _, weights = _taper_weights(taper, n_samples)
+    delta = np.linspace(0.0, 1.0, 201)
+    phase = np.exp(-2.0j * math.pi * np.outer(delta, np.arange(weights.size)) / n_fft)
+    response = np.abs(phase @ weights) / weights.sum()
+    half = delta <= 0.5
+    ratio = response[::-1][half] / response[half]  # R(1 - d) / R(d)
+    return delta[half], response[half], ratio
+
+
+def _order_amplitude(spectrum, frequency):
+    """Amplitude of the tone nearest ``frequency`` within +-max(2 bins, 1 %): the highest bin there, corrected
+    for the taper's scalloping loss from its larger neighbour (exact for an isolated tone, as
+    :func:`~rotorkit.analysis.signals.find_peaks`, from a table of the taper's response); NaN outside the
+    spectrum."""
+    f, a = spectrum.frequency, np.asarray(spectrum.amplitude, dtype=float)
     target = abs(frequency)
-    if f.size < 2 or not (0.0 < target <= f[-1]):
+    if f.size < 3 or not (0.0 < target <= f[-1]):
         return np.nan
     half = max(2.0 * (f[1] - f[0]), 0.01 * target)
-    near = [p.amplitude for p in peaks if abs(p.frequency - target) <= half]
-    if near:
-        return float(max(near))
-    return float(spectrum.amplitude[np.abs(f - target) <= half].max())
+    band = np.flatnonzero(np.abs(f - target) <= half)
+    k = int(band[np.argmax(a[band])])
+    if not (0 < k < f.size - 1) or not spectrum.taper or not spectrum.n_samples or not spectrum.n_fft:
+        return float(a[k])
+    alpha, beta = a[k], max(a[k - 1], a[k + 1])
+    if alpha <= 0 or beta > alpha:
+        return float(alpha)
+    delta, response, ratio = _tone_table(spectrum.taper, int(spectrum.n_samples), int(spectrum.n_fft))
+    d = np.interp(beta / alpha, ratio, delta)  # the ratio grows from R(1)/R(0) at d = 0 to 1 at d = 1/2
+    return float(alpha / np.interp(d, delta, response))
 
 
 def poincare_samples(result, name, window, speed, count):
@@ -174,11 +196,12 @@ def run_point(task):
     bound = min((limit for _, limit in limits), default=None)
     from ..simulate import simulate
 
+    sim_start = _time.perf_counter()
     try:
         result, err = simulate(system, (0.0, s["t_end"]), bound=bound, **s["simulate_options"]), None
     except SimulationError as exc:
         result, err = exc.partial, exc
-    sim_time = _time.perf_counter() - wall
+    sim_time = _time.perf_counter() - sim_start
     if err is not None:
         status, message, when = "failed", str(err), err.time
         if "run-away" in str(err).splitlines()[0]:
@@ -214,11 +237,7 @@ def run_point(task):
             spectrum = result.spectrum(name, tuple(s["window"]), s["highpass_hz"])
             frequency = spectrum.frequency
             rows.append(spectrum.amplitude)
-            if freqs:
-                from ..analysis.signals import find_peaks
-
-                peaks = find_peaks(spectrum, min_relative_height=1e-6, max_peaks=500)
-                order_amp[i] = [_order_amplitude(spectrum, peaks, f) for f in freqs]
+            order_amp[i] = [_order_amplitude(spectrum, f) for f in freqs]
             spectrum_info = {"taper": spectrum.taper, "n_samples": spectrum.n_samples, "n_fft": spectrum.n_fft}
         amplitude = np.vstack(rows)
         reference = speeds[s["poincare_rotor"]] if s["poincare_rotor"] else next(iter(speeds.values()), 0.0)
