@@ -73,6 +73,9 @@ def main(argv=None):
         print(f"  calling-process extra {(wall - point) / len(values):8.3f} s per point "
               f"({100 * (wall - point) / sim:.2f} %; includes the warm-up check of the cache)")
         print(f"  total overhead        {100 * (wall - sim) / sim:.2f} % of the simulation time")
+        extra = sorted((s["point_wall_time"] - s["simulate_wall_time"]) / s["simulate_wall_time"] for s in stats)
+        print(f"  in-worker overhead, median point: {100 * extra[len(extra) // 2]:.2f} % (the first point of a "
+              "process also builds the taper table and loads the compiled model)")
         if args.throughput:
             from concurrent.futures import ProcessPoolExecutor
 
