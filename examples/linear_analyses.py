@@ -65,8 +65,8 @@ def main():
 
     shaft = LinearModel(mass=bare.mass, damping=np.zeros_like(K), stiffness=K, gyroscopic=bare.gyroscopic,
                         coordinate_names=bare.coordinate_names)
-    cmap = critical_speed_map(shaft, supports=[6, 95], stiffnesses=np.logspace(5, 9, 7), speed_range=(1.0, 4000.0),
-                              n_critical=3, n_speeds=30)
+    cmap = critical_speed_map(shaft, supports=[6, 95], stiffnesses=np.logspace(5, 9, 5), speed_range=(1.0, 4000.0),
+                              n_critical=2, n_speeds=20)
     save(cmap.plot(units="rad/s").figure, out / "critical_speed_map.png")
 
 
