@@ -22,13 +22,14 @@ def main(args):
     if not claims:
         raise ParameterError(f"preset {args.preset!r} defines no CLAIMS to validate")
     outputs = getattr(module, "OUTPUTS", {})
-    signals = {"bending": outputs["bending"], "torsion": outputs["torsion"]}
+    options = dict(getattr(module, "STUDY", {}))  # a preset's own study settings (sensors, window, band, ...)
+    signals = options.pop("signals", None) or {"bending": outputs["bending"], "torsion": outputs["torsion"]}
 
     def progress(done, overrides, status):
         text = ", ".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in overrides.items())
         print(f"  run {done}: {text or 'defaults'}: {status}", file=sys.stderr, flush=True)
 
-    study = Study(args.preset, signals, t_end=outputs.get("t_end", 6.0), progress=progress)
+    study = Study(args.preset, signals, t_end=outputs.get("t_end", 6.0), progress=progress, **options)
     results = [claim(study) for claim in claims]
     table = format_table(results)
     print(table)
