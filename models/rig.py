@@ -175,6 +175,9 @@ OUTPUTS = {
     "orbit_probes": ("probe_h", "probe_v"),
     "waterfalls": ("probe_v", "delta_omega"),
     "highpass_hz": 2.0,
+    "start": "equilibrium",
+    "orders": {"1/2 omega": DEFAULTS["speed"] / 2, "omega": DEFAULTS["speed"], "2 omega": 2 * DEFAULTS["speed"]},
+    "fmax": 1000.0,  # rad/s
 }
 
 #: how `rotorkit validate rig` runs: the rig's sensors, the paper's 2 Hz high-pass, from rest on the sag

@@ -34,9 +34,19 @@ def main(args):
     system = model.compile(backend=args.backend)
     compiled = time.perf_counter()
     print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
+    options = dict(method=args.method, rtol=args.rtol, atol=args.atol, sample_rate=args.sample_rate,
+                   engine=args.engine, progress=progress_printer())
+    measurement = None
     try:
-        result = simulate(system, (0.0, t_end), method=args.method, rtol=args.rtol, atol=args.atol,
-                          sample_rate=args.sample_rate, engine=args.engine, progress=progress_printer())
+        if outputs.get("sensors"):  # the preset's virtual sensors, each at its own rate
+            from ..sensors import measure
+            from ..validation import initial_state
+
+            measurement = measure(system, (0.0, t_end), outputs["sensors"],
+                                  y0=initial_state(system, outputs.get("start")), **options)
+            result = measurement.result
+        else:
+            result = simulate(system, (0.0, t_end), **options)
     except SimulationError as err:
         if err.partial is not None and err.partial.t.size:
             import sys
@@ -49,13 +59,13 @@ def main(args):
     print(f"simulated 0-{t_end:g} s in {stats['wall_time']:.2f} s: {stats['nfev']} RHS evaluations, "
           f"{stats['engine']} engine, method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
     out = Path(args.out or f"rotorkit-out/{args.preset}")
-    for p in write_outputs(result, outputs, out):
+    for p in write_outputs(result, outputs, out, measurement):
         print(f"wrote {p}")
     return 0
 
 
-def write_outputs(result, outputs, out):
-    """Write a run's signals, its preset's standard figures and a summary into ``out``."""
+def write_outputs(result, outputs, out, measurement=None):
+    """Write a run's signals, its preset's standard figures (and sensor records) and a summary into ``out``."""
     from ..files import atomic_write_text
     from ..plotting.basic import plot_orbit, plot_signals
 
@@ -71,6 +81,10 @@ def write_outputs(result, outputs, out):
         if name:
             ax = plot_signals(result, name, scale=scale, unit_label=unit)
             written.append(save_figure(ax.figure, out / f"{name.replace('-', '_minus_')}.png"))
+    if measurement is not None:
+        from ..plotting.sensors import write_sensor_outputs
+
+        written += write_sensor_outputs(measurement, outputs, out, save_figure)
     summary = {"name": result.name, "stats": {k: v for k, v in result.stats.items()},
                "parameters": result.parameters}
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
