@@ -51,3 +51,8 @@ def test_every_example_is_run_by_a_test():
     source = Path(__file__).read_text()
     examples = [p.name for p in EXAMPLES.iterdir() if p.suffix in (".py", ".ipynb")]
     assert examples and all(name in source for name in examples)
+
+
+def test_rig_figures_example_clearance_check(tmp_path):
+    out = run(EXAMPLES / "rig_figures.py", "--clearance", cwd=tmp_path)
+    assert out.count("largest radial displacement") == 3 and "clearance of the preset: 0.15 mm" in out
