@@ -4,6 +4,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
@@ -53,6 +55,7 @@ def test_every_example_is_run_by_a_test():
     assert examples and all(name in source for name in examples)
 
 
+@pytest.mark.slow
 def test_rig_figures_example_clearance_check(tmp_path):
     out = run(EXAMPLES / "rig_figures.py", "--clearance", cwd=tmp_path)
     assert out.count("largest radial displacement") == 3 and "clearance of the preset: 0.15 mm" in out

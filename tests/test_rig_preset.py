@@ -97,3 +97,20 @@ def test_validate_cli_rig_with_the_claims_of_the_preset(monkeypatch, capsys, tmp
     assert seen["signals"] == {"bending": "probe_v", "torsion": "delta_omega"}
     assert [s.name for s in seen["sensors"]] == [s.name for s in module.SENSORS]
     assert "stub claim" in (tmp_path / "claims.txt").read_text()
+
+
+def test_run_and_list_cli_write_the_rig_outputs(tmp_path, capsys):
+    from rotorkit.cli import main
+
+    assert main(["list"]) == 0
+    listed = capsys.readouterr().out
+    assert "al31f:" in listed and "rig:" in listed
+    out = tmp_path / "rig"
+    assert main(["run", "rig", "--t-end", "0.5", "--sample-rate", "2000", "--out", str(out)]) == 0
+    for name in ("signals.npz", "sensors.npz", "probe_orbit.png", "probe_h.png", "probe_v.png", "delta_omega.png",
+                 "waterfall_probe_v.png", "waterfall_delta_omega.png", "spectrogram_delta_omega.png"):
+        assert (out / name).stat().st_size > 1000, name
+    with np.load(out / "sensors.npz") as data:
+        assert data["delta_omega"].size == data["delta_omega_t"].size == int(0.5 * 12800) + 1
+        assert data["probe_v"].size == int(0.5 * 2000) + 1
+        assert "probe_v=m" in list(data["units"]) and "delta_omega=rad/s" in list(data["units"])

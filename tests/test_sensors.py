@@ -196,3 +196,9 @@ def test_sensors_accept_pint_quantities():
     p = DisplacementProbe(name="p", station=1, angle=90 * u.degree, sample_rate=2 * u.kHz, noise=1 * u.um)
     assert p.angle == pytest.approx(math.pi / 2) and p.sample_rate == pytest.approx(2000.0)
     assert p.noise == pytest.approx(1e-6)
+
+
+@pytest.mark.parametrize("times", [[0.2, 0.1], [0.0, 2.0], [float("nan")], []])
+def test_simulate_sample_times_are_checked(jeffcott_system, times):
+    with pytest.raises(ParameterError, match="sample_times"):
+        simulate(jeffcott_system, (0.0, 1.0), sample_times=times)
