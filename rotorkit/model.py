@@ -1,6 +1,5 @@
 """A model: a checked, immutable set of elements and the effects it holds."""
 
-import dataclasses
 import difflib
 import hashlib
 from collections import defaultdict
@@ -264,12 +263,12 @@ class Model:
                 raise ParameterError(f"{self.name}: unknown parameter {name!r}; {hint}")
             index, field_name = owners[name]
             element = self.elements[index]
-            sign = element._units[field_name][1]
+            sign = element.parameter_sign(field_name)
             changes[index][field_name] = to_si(value, element.unit_of(field_name), name, sign=sign)
         elements = list(self.elements)
         for index, fields in changes.items():
             try:
-                elements[index] = dataclasses.replace(elements[index], **fields)
+                elements[index] = elements[index].replace_parameters(**fields)
             except ParameterError as err:
                 label = elements[index].label()
                 names = ", ".join(f"{label}_{f} = {v!r}" for f, v in fields.items())
@@ -388,14 +387,27 @@ class Context:
             raise TopologyError(f"{self._element!r}: station {station!r} has no coordinate {name}")
         return self._symbols.coordinates[name], self._symbols.speeds[name]
 
-    def speed(self, station):
-        """Spin speed (rad/s) of the station's rotor, as an expression."""
+    def _root(self, station):
         rotor = self.model.rotor_of(station)
         expr = sp.S.One
         while rotor.speed is None:
             expr *= self._symbols.parameter(f"{rotor.name}_speed_ratio")
             rotor = self.model.rotors[rotor.reference]
-        return expr * self._symbols.parameter(f"{rotor.name}_speed")
+        return expr, rotor
+
+    def speed(self, station):
+        """Spin speed (rad/s) of the station's rotor, as an expression (of ``t`` for a speed profile)."""
+        ratio, rotor = self._root(station)
+        return ratio * rotor.speed_expression(self.t, self._symbols.parameter)
+
+    def spin_angle(self, station):
+        """Spin angle (rad) of the station's rotor, ``integral_0^t speed``: ``Omega t`` at constant speed."""
+        ratio, rotor = self._root(station)
+        return ratio * rotor.angle_expression(self.t, self._symbols.parameter)
+
+    def speed_is_constant(self, station):
+        """Whether the station's rotor spins at a constant speed (no speed profile)."""
+        return self._root(station)[1].profile is None
 
     def parameter(self, element, field_name):
         """The parameter symbol of another element's field."""

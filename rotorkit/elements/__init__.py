@@ -7,6 +7,7 @@ from .masses import Disk, LumpedMass
 from .rotor import Rotor
 from .rub import RubStator
 from .shaft import ShaftSegment
+from .speed import SpeedProfile
 from .support import ElasticSupport
 
 __all__ = [
@@ -20,4 +21,5 @@ __all__ = [
     "BallBearing",
     "RubStator",
     "Maneuver",
+    "SpeedProfile",
 ]

@@ -49,6 +49,7 @@ To add an element type: subclass :class:`Element` in a new module, declare
 the declarations that apply; nothing else in the package changes.
 """
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import ClassVar, Mapping
 
@@ -214,6 +215,14 @@ class Element:
     def parameter_units(self) -> dict[str, str]:
         """Field -> SI unit string of each parameter."""
         return {f: self.unit_of(f) for f in self._units if getattr(self, f) is not None}
+
+    def parameter_sign(self, field_name) -> str | None:
+        """Sign rule of a parameter field (``"positive"``, ``"nonnegative"`` or None)."""
+        return self._units[field_name][1]
+
+    def replace_parameters(self, **fields):
+        """A copy with some parameter fields changed (SI values), fully re-validated."""
+        return dataclasses.replace(self, **fields)
 
     def contribute(self, ctx) -> Terms:
         """Return the element's :class:`Terms` (override)."""

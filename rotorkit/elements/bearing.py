@@ -130,11 +130,19 @@ class BallBearing(Element):
         ri, ro = p["inner_race_radius"], p["outer_race_radius"]
         return (ctx.speed(self.inner_station) * ri + ctx.speed(self.outer_station) * ro) / (ri + ro)
 
+    def cage_angle(self, ctx):
+        """Cage angle: ``omega_c t`` at constant speeds, the weighted spin angles under speed profiles."""
+        if ctx.speed_is_constant(self.inner_station) and ctx.speed_is_constant(self.outer_station):
+            return self.cage_speed(ctx) * ctx.t
+        p = ctx.p
+        ri, ro = p["inner_race_radius"], p["outer_race_radius"]
+        return (ctx.spin_angle(self.inner_station) * ri + ctx.spin_angle(self.outer_station) * ro) / (ri + ro)
+
     def contribute(self, ctx):
         p = ctx.p
         (xi, _), (yi, _) = ctx.coord(self.inner_station, "x"), ctx.coord(self.inner_station, "y")
         (xo, _), (yo, _) = ctx.coord(self.outer_station, "x"), ctx.coord(self.outer_station, "y")
-        theta = self.cage_speed(ctx) * ctx.t
+        theta = self.cage_angle(ctx)
         c0, s0 = sp.cos(theta), sp.sin(theta)
         n = sp.nsimplify(self.exponent)
         fx = fy = sp.S.Zero

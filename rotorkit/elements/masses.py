@@ -121,7 +121,7 @@ class Disk(Element):
         (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         spin = ctx.speed(self.station)
         m, e = p["mass"], p["eccentricity"]
-        phi = spin * ctx.t + p["phase"]
+        phi = ctx.spin_angle(self.station) + p["phase"]  # Omega t at constant speed
         phi_dot = spin
         if self.torsion:
             alpha, alpha_dot = ctx.coord(self.station, "alpha")

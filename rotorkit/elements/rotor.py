@@ -1,5 +1,6 @@
 """Rotor (spool): a set of stations spinning at one speed."""
 
+import dataclasses
 import numbers
 from dataclasses import dataclass
 
@@ -7,6 +8,7 @@ import numpy as np
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
+from .speed import SpeedProfile
 
 __all__ = ["Rotor", "check_station"]
 
@@ -36,8 +38,10 @@ class Rotor(Element):
     stations : tuple of int or str
         Stations on this rotor, in axial order. Each station gets the
         bending coordinates ``x<station>``, ``y<station>``.
-    speed : float or pint.Quantity, optional
-        Spin speed (rad/s).
+    speed : float, pint.Quantity or SpeedProfile, optional
+        Spin speed (rad/s), constant, or a :class:`SpeedProfile` (run-up,
+        coast-down: a table or an expression of time). A profile's values
+        are parameters ``<name>_speed_<key>`` (``LP_speed_t0``, ``LP_speed_w0``).
     speed_ratio : float, optional
         Speed relative to ``reference``.
     reference : str, optional
@@ -69,7 +73,12 @@ class Rotor(Element):
                                  "e.g. (1, 2, 3)")
         object.__setattr__(self, "stations", tuple(check_station(f"Rotor {self.name!r}", st, "stations")
                                                    for st in self.stations))
+        profile = self.speed if isinstance(self.speed, SpeedProfile) else None
+        if profile is not None:  # the profile holds its own checked values
+            object.__setattr__(self, "speed", 0.0)
         Element.__post_init__(self)
+        if profile is not None:
+            object.__setattr__(self, "speed", profile)
 
     def _validate(self):
         if self.name is None:
@@ -130,3 +139,55 @@ class Rotor(Element):
 
     def contribute(self, ctx):
         return Terms()
+
+    # -- speed profiles ------------------------------------------------------
+    @property
+    def profile(self):
+        """The :class:`SpeedProfile`, or None for a constant speed or a ratio."""
+        return self.speed if isinstance(self.speed, SpeedProfile) else None
+
+    def parameters(self):
+        if self.profile is None:
+            return Element.parameters(self)
+        return {f"speed_{k}": v for k, v in self.profile.values().items()}
+
+    def parameter_units(self):
+        if self.profile is None:
+            return Element.parameter_units(self)
+        return {f"speed_{k}": u for k, u in self.profile.units().items()}
+
+    def parameter_sign(self, field_name):
+        return None if self.profile is not None else Element.parameter_sign(self, field_name)
+
+    def unit_of(self, field_name):
+        if self.profile is not None and field_name.startswith("speed_"):
+            return self.profile.units()[field_name[len("speed_"):]]
+        return Element.unit_of(self, field_name)
+
+    def replace_parameters(self, **fields):
+        if self.profile is None:
+            return Element.replace_parameters(self, **fields)
+        new = self.profile.with_values(**{k[len("speed_"):]: v for k, v in fields.items()})
+        return dataclasses.replace(self, speed=new)
+
+    def time_event_fields(self):
+        if self.profile is None:
+            return Element.time_event_fields(self)
+        return tuple(f"speed_{k}" for k in self.profile.time_event_fields())
+
+    def structure(self):
+        if self.profile is None:
+            return Element.structure(self)
+        return (type(self).__name__, self.label(), (("stations", repr(self.stations)), self.profile.structure()))
+
+    def speed_expression(self, t, parameter):
+        """Spin speed of this (root) rotor as an expression; ``parameter(name)`` gives a symbol."""
+        if self.profile is None:
+            return parameter(f"{self.name}_speed")
+        return self.profile.speed(t, {k: parameter(f"{self.name}_speed_{k}") for k in self.profile.values()})
+
+    def angle_expression(self, t, parameter):
+        """Spin angle ``integral_0^t speed`` of this (root) rotor as an expression."""
+        if self.profile is None:
+            return parameter(f"{self.name}_speed") * t
+        return self.profile.angle(t, {k: parameter(f"{self.name}_speed_{k}") for k in self.profile.values()})
