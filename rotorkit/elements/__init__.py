@@ -1,7 +1,9 @@
 """Physical elements: each contributes energy terms and loads to a model."""
 
 from .base import Element, Terms
+from .base_motion import BaseRotation
 from .bearing import BallBearing
+from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, LumpedMass
 from .rotor import Rotor
@@ -22,4 +24,6 @@ __all__ = [
     "RubStator",
     "Maneuver",
     "SpeedProfile",
+    "LinearBearing",
+    "BaseRotation",
 ]

@@ -136,7 +136,7 @@ class _Table(sp.Function):
         return type(self)._inline(*self._split(self.args))
 
     def _pythoncode(self, printer):
-        return printer._print(self.inline())
+        return f"({printer._print(self.inline())})"
 
     def _latex(self, printer):
         return r"\operatorname{%s}\left(%s\right)" % (self._latex_name, printer._print(self.args[0]))
