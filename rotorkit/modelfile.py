@@ -230,7 +230,7 @@ def _object_items(obj, where):
         value = getattr(obj, f.name)
         if value is None:
             continue
-        if f.name in units:
+        if f.name in units and not dataclasses.is_dataclass(value):  # (a SpeedProfile in Rotor.speed)
             unit = obj.unit_of(f.name) if hasattr(obj, "unit_of") else units[f.name][0]
             items.append((f.name, _quantity(value, unit, f"{where}.{f.name}")))
         else:
@@ -347,7 +347,7 @@ def _build(table, where, ctx, types):
 
 
 def _field_value(raw, where, has_unit, ctx, types):
-    if has_unit:
+    if has_unit and not (isinstance(raw, dict) and "type" in raw):
         if isinstance(raw, list):
             return tuple(_field_value(v, f"{where}[{i}]", True, ctx, types) for i, v in enumerate(raw))
         if isinstance(raw, str):

@@ -22,7 +22,8 @@ HEADER = 'format = "rotorkit-model"\nversion = 1\n'
 def sink_model():
     """One model holding every element type (and both ways of giving shaft stiffness)."""
     return rk.Model([
-        rk.Rotor(name="LP", stations=(1, 2, 3), speed=1500.0),
+        rk.Rotor(name="LP", stations=(1, 2, 3),
+                 speed=rk.elements.SpeedProfile.table(times=[0.0, 0.5], speeds=[300.0, 1500.0])),
         rk.Rotor(name="HP", stations=("h",), speed_ratio=1.3, reference="LP"),
         rk.LumpedMass(station=1, mass=2.0),
         rk.Disk(station=2, mass=10.0, radius=0.075, eccentricity=4.635e-5, phase=0.1, torsion=True),
@@ -38,6 +39,10 @@ def sink_model():
                        n_balls=8, inner_race_radius=0.0401, outer_race_radius=0.0639),
         rk.RubStator(station=2, clearance=1.34e-4, contact_stiffness=8e6, friction_coefficient=0.1),
         rk.Maneuver.barrel_roll(rate=np.pi, radius=3.0, start=0.2, end=0.4),
+        rk.elements.LinearBearing.tabulated(station=2, speeds=[0.0, 1000.0], kxx=[1e6, 2e6], kyy=[1e6, 1.5e6],
+                                            kxy=[0.0, 1e5], cxx=[10.0, 20.0]),
+        rk.elements.LinearBearing(station=3, other_station="h", kxx=1e5, kyy=1e5, cxy=3.0, cyx=-3.0),
+        rk.elements.BaseRotation(rate_y=0.5, center_x=-800.0, axial_positions={1: 0.1, 2: 0.4}),
     ], name="sink")
 
 
