@@ -177,3 +177,26 @@ def test_bad_input_raises_named_errors(kwargs, match):
 def test_unknown_station_is_a_topology_error():
     with pytest.raises(TopologyError, match="station 5"):
         jeffcott(LinearBearing(station=1, other_station=5, kxx=1.0, kyy=1.0))
+
+
+def test_pedestal_mass_two_dof_frequencies():
+    """Journal m1 on a bearing k1 to a pedestal m2 on k2 to ground (the pedestal as a non-spinning rotor).
+
+    det([[k1 - m1 w^2, -k1], [-k1, k1 + k2 - m2 w^2]]) = 0 gives
+    w^2 = (b -/+ sqrt(b^2 - 4 m1 m2 k1 k2)) / (2 m1 m2), b = m1 (k1 + k2) + m2 k1, in x (kxx) and y (kyy).
+    """
+    m1, m2, k2 = 2.0, 5.0, 3e4
+    kxx, kyy = 2e4, 1e4
+    model = Model([
+        Rotor(name="R", stations=(1,), speed=200.0), Rotor(name="pedestal", stations=("p",), speed=0.0),
+        LumpedMass(station=1, mass=m1), LumpedMass(station="p", mass=m2),
+        LinearBearing(station=1, other_station="p", kxx=kxx, kyy=kyy),
+        ElasticSupport(station="p", stiffness=k2),
+    ])
+    expected = []
+    for k1 in (kxx, kyy):
+        b = m1 * (k1 + k2) + m2 * k1
+        root = math.sqrt(b * b - 4 * m1 * m2 * k1 * k2)
+        expected += [math.sqrt((b - root) / (2 * m1 * m2)), math.sqrt((b + root) / (2 * m1 * m2))]
+    w = np.sort(np.abs(eigenvalues(model).imag))
+    np.testing.assert_allclose(w, np.sort(np.repeat(expected, 2)), rtol=1e-10)
