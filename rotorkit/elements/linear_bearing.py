@@ -199,6 +199,14 @@ class LinearBearing(Element):
     def attached_stations(self):
         return (self.station,) if self.other_station is None else (self.station, self.other_station)
 
+    def grounds(self):
+        return () if self.other_station is not None else ((self.station, "x"), (self.station, "y"))
+
+    def stiffness_links(self):
+        if self.other_station is None:
+            return ()
+        return (((self.station, "x"), (self.other_station, "x")), ((self.station, "y"), (self.other_station, "y")))
+
     def _default_label(self):
         other = "" if self.other_station is None else f"_{self.other_station}"
         return f"linearbearing{self.station}{other}"
