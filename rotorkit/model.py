@@ -140,7 +140,21 @@ class Model:
                         "a station belongs to one rotor"
                     )
                 mapping[s] = rotor
-        return mapping
+        order = list(mapping)
+        for e in self.elements:  # internal stations (beam nodes) follow their host station
+            added = []
+            for s, host in e.internal_stations():
+                if host not in mapping:
+                    raise TopologyError(f"{type(e).__name__} {e.label()!r}: station {host!r} is not on any rotor "
+                                        f"(known stations: {order})")
+                if s in mapping:
+                    raise TopologyError(f"{type(e).__name__} {e.label()!r}: internal station {s!r} exists already; "
+                                        "rename the element (name=...) or the station")
+                mapping[s] = mapping[host]
+                at = order.index(added[-1] if added else host) + 1
+                order.insert(at, s)
+                added.append(s)
+        return {s: mapping[s] for s in order}
 
     def _check_attachments(self):
         for e in self.elements:
@@ -175,8 +189,8 @@ class Model:
             if missing:
                 names = ", ".join(f"{a}{s}" for s, a in missing)
                 tilt = any(a in ("thx", "thy") for _, a in missing)
-                hint = ("tilt coordinates come from elements that bend with slope, e.g. a beam ShaftSegment "
-                        "at that station" if tilt else "add an element that creates them")
+                hint = ("tilt coordinates come from elements that bend with slope, e.g. a BeamSegment ending "
+                        "at that station (or drop the tilt-only part)" if tilt else "add an element that creates them")
                 raise TopologyError(
                     f"{type(e).__name__} {e.label()!r}: needs the coordinates {names}, which the model does not "
                     f"have; {hint}"

@@ -239,6 +239,6 @@ def test_tilt_whirl_frequencies_match_gyroscopic_closed_form(speed):
 
 
 def test_tilt_only_element_on_station_without_tilt_is_a_named_error():
-    with pytest.raises(TopologyError, match=r"TiltSpring 'tiltspring1': needs the coordinates thx1, thy1.*beam"):
+    with pytest.raises(TopologyError, match=r"TiltSpring 'tiltspring1': needs the coordinates thx1, thy1.*BeamSegment"):
         Model([Rotor(name="R", stations=(1,), speed=0.0), LumpedMass(station=1, mass=M1),
                ElasticSupport(station=1, stiffness=K1), TiltSpring(station=1, stiffness=1.0)])

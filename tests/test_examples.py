@@ -49,6 +49,20 @@ def test_first_model_notebook_executes(tmp_path, monkeypatch):
     assert (tmp_path / "jeffcott.toml").stat().st_size > 0
 
 
+def test_two_disk_rotor_example(tmp_path):
+    """Beam-element rotor: each whirl pair splits with speed, forward above backward (gyroscopic stiffening)."""
+    out = run(EXAMPLES / "two_disk_rotor.py", "--out", tmp_path / "figs", "--max-rpm", "2000", cwd=tmp_path)
+    rows = [line.split("|") for line in out.splitlines() if "|" in line and line.split("|")[0].strip().isdigit()]
+    assert len(rows) == 5
+    for speed, cells in rows[1:]:
+        values = cells.split()
+        freqs, labels = [float(v[:-1]) for v in values], [v[-1] for v in values]
+        assert labels == ["B", "F"] * 3, (speed, values)
+        assert all(freqs[i] < freqs[i + 1] for i in range(0, 6, 2))
+    for name in ("campbell.png", "modes.png"):
+        assert (tmp_path / "figs" / name).stat().st_size > 10_000
+
+
 def test_every_example_is_run_by_a_test():
     source = Path(__file__).read_text()
     examples = [p.name for p in EXAMPLES.iterdir() if p.suffix in (".py", ".ipynb")]

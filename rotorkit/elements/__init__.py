@@ -2,10 +2,12 @@
 
 from .base import Element, Terms
 from .base_motion import BaseRotation
+from .beam import BeamSegment
 from .bearing import BallBearing
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, LumpedMass
+from .material import Material
 from .rotor import Rotor
 from .rub import RubStator
 from .shaft import ShaftSegment
@@ -15,6 +17,8 @@ from .support import ElasticSupport
 __all__ = [
     "Element",
     "Terms",
+    "Material",
+    "BeamSegment",
     "Rotor",
     "Disk",
     "LumpedMass",

@@ -58,7 +58,7 @@ import sympy as sp
 from ..errors import ParameterError
 from ..units import to_si
 
-__all__ = ["Element", "Terms", "AXES"]
+__all__ = ["Element", "Terms", "QuadraticForm", "AXES"]
 
 #: the standard coordinate axes, in coordinate order
 AXES = ("x", "y", "alpha", "thx", "thy")
@@ -85,6 +85,51 @@ class Terms:
     dissipation: sp.Expr = sp.S.Zero
     loads: Mapping = field(default_factory=dict)
     switches: tuple = ()
+    quadratic: tuple = ()
+
+
+@dataclass(frozen=True, slots=True)
+class QuadraticForm:
+    """Energies that are quadratic forms over a few coordinates (finite elements).
+
+    ``T = 1/2 u^T M u + u^T N q``, ``V = 1/2 q^T K q``, ``D = 1/2 u^T C u``
+    with ``q`` the coordinates and ``u = q'`` their speeds. Lagrange's
+    equations of these are ``M q'' + (N - N^T) q' + C q' + K q`` (``N`` holds
+    the gyroscopic terms, e.g. ``Omega I_p thx' thy``), so the derivation adds
+    the matrices directly instead of differentiating; :meth:`kinetic` and
+    friends give the same energies as expressions.
+
+    Attributes
+    ----------
+    coordinates, speeds : tuple of sympy.Symbol
+        q and q' of the form, length m.
+    mass, stiffness, damping, gyroscopic : sympy.Matrix or None
+        m x m; None for a zero matrix. ``mass``, ``stiffness`` and
+        ``damping`` symmetric.
+    """
+
+    coordinates: tuple
+    speeds: tuple
+    mass: object = None
+    stiffness: object = None
+    damping: object = None
+    gyroscopic: object = None
+
+    def _form(self, A, left, right):
+        if A is None:
+            return sp.S.Zero
+        m = len(left)
+        return sp.Add(*[A[i, j] * left[i] * right[j] for i in range(m) for j in range(m) if A[i, j] != 0])
+
+    def kinetic(self):
+        return self._form(self.mass, self.speeds, self.speeds) / 2 + self._form(self.gyroscopic, self.speeds,
+                                                                                self.coordinates)
+
+    def potential(self):
+        return self._form(self.stiffness, self.coordinates, self.coordinates) / 2
+
+    def dissipation(self):
+        return self._form(self.damping, self.speeds, self.speeds) / 2
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -148,6 +193,10 @@ class Element:
 
     def owned_stations(self) -> tuple:
         """The stations this element defines (a rotor's stations); each station has one owner."""
+        return ()
+
+    def internal_stations(self) -> tuple:
+        """``(station, host)`` pairs: stations this element adds on the rotor of ``host`` (beam nodes)."""
         return ()
 
     def coordinates(self) -> tuple:

@@ -41,6 +41,13 @@ class Disk(Element):
         Initial phase of the centroid (rad).
     torsion : bool
         Give the disk a torsional coordinate ``alpha<station>``.
+    diametral_inertia : float or pint.Quantity, optional
+        Moment of inertia about a diameter through the centroid (kg m^2).
+        Needs tilt coordinates at the station (a beam element there): adds
+        ``1/2 I_d (thx'^2 + thy'^2)`` and the gyroscopic term
+        ``I_p phi' thx' thy`` (``phi' = Omega (+ alpha')``) to T.
+
+    See :meth:`from_geometry` for a disk built from its width, diameters and material.
 
     Examples
     --------
@@ -55,15 +62,54 @@ class Disk(Element):
     eccentricity: float = 0.0
     phase: float = 0.0
     torsion: bool = False
+    diametral_inertia: float | None = None
 
     _units = {
         "mass": ("kg", "positive"),
         "polar_inertia": ("kg*m**2", "positive"),
+        "diametral_inertia": ("kg*m**2", "positive"),
         "radius": ("m", "positive"),
         "eccentricity": ("m", "nonnegative"),
         "phase": ("rad", None),
     }
-    _latex_names = {"mass": "m", "polar_inertia": "J", "radius": "R", "eccentricity": "e", "phase": r"\phi"}
+    _latex_names = {"mass": "m", "polar_inertia": "J", "radius": "R", "eccentricity": "e", "phase": r"\phi",
+                    "diametral_inertia": "I_d"}
+
+    @classmethod
+    def from_geometry(cls, *, station, width, outer_diameter, material, inner_diameter=0.0, diametral=True,
+                      eccentricity=0.0, phase=0.0, torsion=False, name=None):
+        """A uniform annular disk from width w, diameters and a :class:`~rotorkit.elements.material.Material`.
+
+        ``m = rho pi (r_o^2 - r_i^2) w``, ``I_p = m (r_o^2 + r_i^2) / 2``,
+        ``I_d = I_p / 2 + m w^2 / 12``; ``radius`` is r_o. With
+        ``diametral=False`` the disk has no diametral inertia (a station
+        without tilt coordinates).
+
+        Examples
+        --------
+        >>> from rotorkit.elements.material import Material
+        >>> d = Disk.from_geometry(station=3, width=0.07, inner_diameter=0.05, outer_diameter=0.28,
+        ...                        material=Material.steel())
+        >>> round(d.mass, 2), round(d.polar_inertia, 4), round(d.diametral_inertia, 4)
+        (32.58, 0.3294, 0.1780)
+        """
+        from ..units import to_si
+        from .material import Material
+
+        who = f"Disk.from_geometry at station {station!r}"
+        if not isinstance(material, Material):
+            raise ParameterError(f"{who}: material = {material!r}: expected a rotorkit Material, e.g. Material.steel()")
+        w = to_si(width, "m", f"{who}: width", sign="positive")
+        do = to_si(outer_diameter, "m", f"{who}: outer_diameter", sign="positive")
+        di = to_si(inner_diameter, "m", f"{who}: inner_diameter", sign="nonnegative")
+        if not di < do:
+            raise ParameterError(f"{who}: inner_diameter = {di:g} m must be smaller than outer_diameter = {do:g} m")
+        ro, ri = do / 2, di / 2
+        mass = material.density * np.pi * (ro**2 - ri**2) * w
+        polar = mass * (ro**2 + ri**2) / 2
+        return cls(station=station, mass=mass, polar_inertia=polar, radius=ro, eccentricity=eccentricity,
+                   phase=phase, torsion=torsion, name=name,
+                   diametral_inertia=polar / 2 + mass * w**2 / 12 if diametral else None)
 
     def _validate(self):
         object.__setattr__(self, "station", check_station("Disk", self.station, "station"))
@@ -87,11 +133,16 @@ class Disk(Element):
         return ((self.station, "alpha"),) if self.torsion else ()
 
     def inertia(self):
-        return ((self.station, "x"), (self.station, "y")) + (((self.station, "alpha"),) if self.torsion else ())
+        out = ((self.station, "x"), (self.station, "y")) + (((self.station, "alpha"),) if self.torsion else ())
+        return out + self.requires()
+
+    def requires(self):
+        return ((self.station, "thx"), (self.station, "thy")) if self.diametral_inertia is not None else ()
 
     def effects(self):
         return frozenset({"unbalance"} if self.eccentricity is not None else ()) | (
-            frozenset({"torsion"}) if self.torsion else frozenset())
+            frozenset({"torsion"}) if self.torsion else frozenset()) | (
+            frozenset({"gyroscopic"}) if self.diametral_inertia is not None else frozenset())
 
     def check(self, model):
         others = [e for e in model.elements_at(self.station) if isinstance(e, Disk)]
@@ -131,6 +182,9 @@ class Disk(Element):
         kinetic = m * (vx**2 + vy**2) / 2
         if self.torsion:
             kinetic += self.polar_inertia_expr(p) * phi_dot**2 / 2
+        if self.diametral_inertia is not None:
+            (a, ad), (b, bd) = ctx.coord(self.station, "thx"), ctx.coord(self.station, "thy")
+            kinetic += p["diametral_inertia"] * (ad**2 + bd**2) / 2 + self.polar_inertia_expr(p) * phi_dot * ad * b
         return Terms(kinetic=kinetic)
 
 

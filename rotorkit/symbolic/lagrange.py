@@ -302,6 +302,28 @@ class _Templates:
         return glob(mass, True), glob(force), glob(Ke, True), glob(Ce, True)
 
 
+def _add_quadratic(form, q_index, M, K, C, force, totals):
+    """Add a :class:`~rotorkit.elements.base.QuadraticForm`'s matrices (and energies) in place."""
+    idx = [q_index[q] for q in form.coordinates]
+    m = len(idx)
+    for A, target in ((form.mass, M), (form.stiffness, K), (form.damping, C)):
+        if A is not None:
+            for a in range(m):
+                for b in range(m):
+                    if A[a, b] != 0:
+                        _add(target, (idx[a], idx[b]), A[a, b])
+    if form.gyroscopic is not None:  # d/dt(N q) - N^T q' = (N - N^T) q' moves to the right-hand side
+        N = form.gyroscopic
+        for a in range(m):
+            row = sp.Add(*[(N[a, b] - N[b, a]) * form.speeds[b] for b in range(m) if N[a, b] != 0 or N[b, a] != 0])
+            if row != 0:
+                force[idx[a]] = force.get(idx[a], sp.S.Zero) - row
+    for name, value in (("kinetic", form.kinetic()), ("potential", form.potential()),
+                        ("dissipation", form.dissipation())):
+        if value != 0:
+            totals[name].append(value)
+
+
 def _add(target, key, value):
     """``target[key] += value`` on a dict of term lists (summed once at the end: no quadratic re-flattening)."""
     target.setdefault(key, []).append(value)
@@ -361,6 +383,10 @@ def _derive(model):
         for q, load in terms.loads.items():
             _add(loads, (q_index[q], 0), load)
         mass, force, Ke, Ce = templates.contribution(terms, bound.p)
+        if terms.quadratic:  # finite elements: add the matrices, no differentiation
+            force = dict(force)
+            for form in terms.quadratic:
+                _add_quadratic(form, q_index, M, K, C, force, totals)
         for (i, j), mij in mass.items():
             _add(M, (i, j), mij)
             if i != j:
