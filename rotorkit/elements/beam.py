@@ -135,7 +135,7 @@ class BeamSegment(Element):
     --------
     >>> b = BeamSegment(start=1, end=2, length=0.25, outer_diameter=0.05, material=Material.steel())
     >>> round(b.mass_value(), 3)
-    3.833
+    3.834
     """
 
     start: int | str = None

@@ -91,7 +91,7 @@ class Disk(Element):
         >>> d = Disk.from_geometry(station=3, width=0.07, inner_diameter=0.05, outer_diameter=0.28,
         ...                        material=Material.steel())
         >>> round(d.mass, 2), round(d.polar_inertia, 4), round(d.diametral_inertia, 4)
-        (32.58, 0.3294, 0.1780)
+        (32.59, 0.3296, 0.1781)
         """
         from ..units import to_si
         from .material import Material

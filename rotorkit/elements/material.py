@@ -93,7 +93,7 @@ class Material:
                     f"{who}: shear_modulus = {G:g} Pa with youngs_modulus = {E:g} Pa gives a Poisson ratio "
                     f"{implied:.4g} outside (-1, 0.5); expected G > E/3 = {E / 3:g} Pa"
                 )
-            nu = implied
+            nu = implied if nu is None else nu
         object.__setattr__(self, "shear_modulus", G)
         object.__setattr__(self, "poisson_ratio", nu)
 
