@@ -64,7 +64,7 @@ def linear_matrices(model):
     values = [model.parameters[str(p)] for p in others]
     zero = {s: 0 for s in eom.coordinates + eom.speeds}
     f = eom.forcing.subs(eom.t, 0)
-    M = np.array(sp.lambdify(others, eom.mass_matrix.subs(zero))(*values), dtype=float)
+    M = np.array(sp.lambdify(others, sp.Matrix(eom.mass_matrix).subs(zero))(*values), dtype=float)
     K = -np.array(sp.lambdify(others + [speed], f.jacobian(eom.coordinates).subs(zero))(*values, 0.0), dtype=float)
     G_of = sp.lambdify(others + [speed], -f.jacobian(eom.speeds).subs(zero))
     return M, K, lambda w: np.array(G_of(*values, w), dtype=float)

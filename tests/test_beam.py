@@ -89,7 +89,7 @@ def linear(model):
     zero = {s: 0 for s in eom.coordinates + eom.speeds}
     f = eom.forcing.subs(eom.t, 0)
     args = eom.parameters
-    M = np.array(sp.lambdify(args, eom.mass_matrix.subs(zero))(*vals), dtype=float)
+    M = np.array(sp.lambdify(args, sp.Matrix(eom.mass_matrix).subs(zero))(*vals), dtype=float)
     K = -np.array(sp.lambdify(args, f.jacobian(eom.coordinates).subs(zero))(*vals), dtype=float)
     C = -np.array(sp.lambdify(args, f.jacobian(eom.speeds).subs(zero))(*vals), dtype=float)
     F = np.array(sp.lambdify(args, f.subs(zero))(*vals), dtype=float).ravel()
