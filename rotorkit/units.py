@@ -6,10 +6,11 @@ any pint registry is accepted: it is converted with its own registry.
 
 import math
 import numbers
+import re
 
 from .errors import ParameterError, UnitError
 
-__all__ = ["to_si", "registry"]
+__all__ = ["to_si", "registry", "parse_quantity", "parse_unit"]
 
 _REGISTRY = None
 
@@ -24,6 +25,185 @@ def registry():
     return _REGISTRY
 
 
+#: limits of the quantity grammar: every text it accepts is parsed in time linear in its length
+MAX_TEXT = 200
+MAX_EXPONENT = 12  # |exponent| of any unit name after multiplying out parentheses
+MAX_DEPTH = 3  # nested parentheses
+MAX_NAMES = 16  # unit names in one expression
+
+_NUMBER = re.compile(r"[+-]?(?:inf(?:inity)?|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?)(?![\w.])", re.IGNORECASE)
+_TOKEN = re.compile(r"\s*(?:(?P<name>(?:[^\W\d]|°)(?:\w|°)*)|(?P<int>[+-]?[\d.]+)|(?P<op>\*\*|[*/^()·]))")
+_NAME = re.compile(r"[A-Za-zµμ°Ω_]+")
+_GRAMMAR = ("a number, optionally followed by a unit expression: unit names joined by *, / or a space, "
+            f"integer exponents ^n or **n with |n| <= {MAX_EXPONENT}, at most {MAX_DEPTH} nested parentheses")
+
+
+def _tokens(text, where):
+    tokens, pos = [], 0
+    while pos < len(text):
+        match = _TOKEN.match(text, pos)
+        if not match:
+            if text[pos:].strip() == "":
+                break
+            raise UnitError(f"{where}: unexpected {text[pos:].strip()[:20]!r} in the unit; expected {_GRAMMAR}")
+        kind = match.lastgroup
+        tokens.append((kind, match.group(kind)))
+        pos = match.end()
+    return tokens
+
+
+class _UnitParser:
+    """Recursive descent over the unit tokens; builds {name: exponent} with bounded exponents."""
+
+    def __init__(self, tokens, where):
+        self.tokens, self.pos, self.where, self.names = tokens, 0, where, 0
+
+    def fail(self, what):
+        raise UnitError(f"{self.where}: {what}; expected {_GRAMMAR}")
+
+    def peek(self):
+        return self.tokens[self.pos] if self.pos < len(self.tokens) else (None, None)
+
+    def take(self):
+        token = self.peek()
+        self.pos += 1
+        return token
+
+    def expression(self, depth):
+        powers = {}
+        kind, text = self.peek()
+        if kind == "int" and text == "1" and self.tokens[self.pos + 1:self.pos + 2] == [("op", "/")]:
+            self.pos += 1  # a leading "1/" as in "1/s"
+            sign = -1
+            self.take()
+        else:
+            sign = 1
+        while True:
+            self.merge(powers, self.term(depth), sign)
+            kind, text = self.peek()
+            if kind == "op" and text in ("*", "·"):
+                self.take()
+                sign = 1
+            elif kind == "op" and text == "/":
+                self.take()
+                sign = -1
+            elif kind == "name" or (kind == "op" and text == "("):
+                sign = 1  # a space multiplies: "N m"
+            else:
+                return powers
+
+    def term(self, depth):
+        kind, text = self.take()
+        if kind == "name":
+            if not _NAME.fullmatch(text) or len(text) > 40:
+                self.fail(f"{text!r} is not a unit name")
+            self.names += 1
+            if self.names > MAX_NAMES:
+                self.fail(f"more than {MAX_NAMES} unit names")
+            powers = {text: 1}
+        elif kind == "op" and text == "(":
+            if depth >= MAX_DEPTH:
+                self.fail(f"more than {MAX_DEPTH} nested parentheses")
+            powers = self.expression(depth + 1)
+            if self.take() != ("op", ")"):
+                self.fail("unbalanced parentheses")
+        else:
+            self.fail(f"{text!r} where a unit name was expected" if text else "the unit ends too early")
+        kind, text = self.peek()
+        if kind == "op" and text in ("^", "**"):
+            self.take()
+            kind, text = self.take()
+            if kind != "int" or not re.fullmatch(r"[+-]?\d{1,2}", text):
+                self.fail(f"the exponent {text!r} is not a small integer")
+            exponent = int(text)
+            powers = {name: power * exponent for name, power in powers.items()}
+            if self.peek() in (("op", "^"), ("op", "**")):
+                self.fail("an exponent of an exponent")
+        for name, power in powers.items():
+            if abs(power) > MAX_EXPONENT:
+                self.fail(f"{name} to the power {power}")
+        return powers
+
+    def merge(self, powers, more, sign):
+        for name, power in more.items():
+            powers[name] = powers.get(name, 0) + sign * power
+            if abs(powers[name]) > MAX_EXPONENT:
+                self.fail(f"{name} to the power {powers[name]}")
+
+
+def parse_unit(text, name="unit"):
+    """A pint unit from a bounded unit expression (``"N/m"``, ``"kg*m^2"``, ``"1/s"``, ``"(m/s)**2"``).
+
+    pint's own string evaluation is never used on the whole text: the
+    expression is parsed here (unit names, ``*``, ``/``, a space, ``^n`` or
+    ``**n`` with ``|n| <= 12``, at most 3 nested parentheses) and only single
+    unit names are looked up in the registry, so no text can make it hang.
+
+    Raises
+    ------
+    UnitError
+        Not such an expression, or a name pint does not know.
+    """
+    where = f"{name} = {text!r}"
+    if not isinstance(text, str):
+        raise UnitError(f"{where}: a unit must be a string")
+    if len(text) > MAX_TEXT:
+        raise UnitError(f"{name}: the unit text is longer than {MAX_TEXT} characters")
+    parser = _UnitParser(_tokens(text, where), where)
+    powers = parser.expression(0)
+    if parser.pos != len(parser.tokens):
+        parser.fail(f"unexpected {parser.tokens[parser.pos][1]!r}")
+    ureg = registry()
+    unit = ureg.Unit("dimensionless")
+    for unit_name, power in powers.items():
+        if power == 0:
+            continue
+        try:
+            unit = unit * ureg.Unit(unit_name) ** power
+        except Exception as exc:  # pint's UndefinedUnitError and friends
+            raise UnitError(f"{where}: {unit_name!r} is not a unit pint knows (e.g. N/m, mm, rpm, kg*m^2)") from exc
+    return unit
+
+
+def parse_quantity(text, name="value"):
+    """A float or a pint quantity from text: ``"2e6"``, ``"2e6 N/m"``, ``"3000 rpm"``.
+
+    The grammar is bounded (see :func:`parse_unit`): a decimal number
+    (``inf`` allowed, refused later by the parameter's own finiteness check),
+    optionally followed by a unit expression. Anything else, hex, ``nan``,
+    a comma decimal, an exponent of an exponent in any spelling, is refused.
+
+    Returns
+    -------
+    float or pint.Quantity
+        A float when the text holds no unit.
+
+    Raises
+    ------
+    UnitError
+        The text is not a number with an optional unit expression.
+    """
+    if not isinstance(text, str):
+        raise UnitError(f"{name} = {text!r}: expected a string such as '2e6 N/m'")
+    if len(text) > MAX_TEXT:
+        raise UnitError(f"{name}: the text is longer than {MAX_TEXT} characters; expected {_GRAMMAR}")
+    stripped = text.strip()
+    match = _NUMBER.match(stripped)
+    if not match:
+        raise UnitError(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
+    value = float(match.group(0))
+    rest = stripped[match.end():].strip()
+    if not rest:
+        return value
+    if rest[0] not in "(1" and not (rest[0].isalpha() or rest[0] in "µμ°Ω_"):
+        raise UnitError(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
+    unit = parse_unit(rest, name)
+    try:
+        return registry().Quantity(value, unit)
+    except Exception as exc:  # an offset unit (degC) inside a compound unit
+        raise UnitError(f"{name} = {text!r}: {rest!r} cannot carry a value (offset unit in a compound)") from exc
+
+
 def _is_quantity(value):
     return hasattr(value, "magnitude") and hasattr(value, "to") and hasattr(value, "dimensionality")
 
@@ -33,8 +213,9 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
 
     Parameters
     ----------
-    value : float, int or pint.Quantity
-        A plain number is taken as already in ``unit``.
+    value : float, int, str or pint.Quantity
+        A plain number is taken as already in ``unit``; a string is read by
+        :func:`parse_quantity` (``"2e6 N/m"``).
     unit : str
         The SI unit expected, e.g. ``"kg"``, ``"N/m"``, ``"rad/s"``; ``""`` for
         dimensionless.
@@ -59,6 +240,8 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
     if value is None and allow_none:
         return None
     shown_unit = unit or "dimensionless"
+    if isinstance(value, str):
+        value = parse_quantity(value, name)
     if _is_quantity(value):
         if unit.startswith("rad") and "hertz" in str(value.units):
             raise UnitError(

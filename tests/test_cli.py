@@ -156,3 +156,16 @@ def test_sweep_command_takes_a_model_file(tmp_path, capsys):
 def test_sweep_rejects_an_unknown_parameter(capsys):
     assert main(["sweep", "al31f", "--param", "rub_stifness=1:2:3"]) == 2
     assert "did you mean rub_stiffness" in capsys.readouterr().err
+
+
+def test_repeated_set_name_is_refused(capsys):
+    code = main(["run", "al31f", "--t-end", "0.001", "--set", "rub_stiffness=2e6", "--set", "rub_stiffness=3e6",
+                 "--out", "/nonexistent-never-written"])
+    assert code == 2
+    assert "rub_stiffness is given twice" in capsys.readouterr().err
+
+
+def test_set_exponent_tower_in_any_spelling_is_refused():
+    for text in ("x=9**9**9", "x=1 m^9^9^9", "x=1 m**(9**9)", "x=1 (((m^12)^12)^12)"):
+        with pytest.raises(ParameterError, match="^--set"):
+            parse_assignment(text)

@@ -1,6 +1,5 @@
 """Helpers shared by the commands: --set parsing, progress lines, figure files, scene loading."""
 
-import re
 import sys
 
 from ..errors import ParameterError
@@ -9,9 +8,6 @@ __all__ = ["parse_assignment", "progress_printer", "save_figure", "load_preset",
            "scene_module", "check_parameter_name", "positive_float", "positive_int", "FileScene"]
 
 _TRUE, _FALSE = {"true", "yes", "on", "1"}, {"false", "no", "off", "0"}
-#: a --set value: a plain decimal number, optionally followed by a unit expression (letters, /, *, ^, spaces)
-_QUANTITY = re.compile(r"^\s*([+-]?(?:inf|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?))\s*"
-                       r"((?![eE][+-]?\d)(?:1\s*/\s*)?[A-Za-zµ°Ω][A-Za-zµ°Ω0-9_ /*^.\-]*)?\s*$")
 
 
 def parse_assignment(text, defaults=None):
@@ -37,24 +33,10 @@ def parse_assignment(text, defaults=None):
         if low in _TRUE | _FALSE:
             return name, low in _TRUE
         raise ParameterError(f"--set {name}={raw!r}: expected true or false")
-    match = _QUANTITY.match(raw)
-    if not match:
-        raise ParameterError(
-            f"--set {name}={raw!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')"
-        )
-    number, unit = match.group(1), match.group(2)
-    value = float(number)  # a non-finite value is refused by the parameter's own check
-    if not unit:
-        return name, value
-    from ..units import registry
+    from ..units import parse_quantity
 
-    if re.search(r"\d\s*\*\*|\*\*\s*\d{3,}", unit):
-        raise ParameterError(f"--set {name}={raw!r}: the unit {unit!r} is not a unit expression")
-    try:
-        quantity = value * registry().Unit(unit)
-    except Exception as exc:
-        raise ParameterError(f"--set {name}={raw!r}: {unit!r} is not a unit pint knows (e.g. N/m, mm, rpm)") from exc
-    return name, quantity
+    # a float, or a pint quantity from the bounded grammar of rotorkit.units (no pint string evaluation)
+    return name, parse_quantity(raw, f"--set {name}")
 
 
 def progress_printer():
