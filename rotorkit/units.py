@@ -38,6 +38,10 @@ _GRAMMAR = ("a number, optionally followed by a unit expression: unit names join
             f"integer exponents ^n or **n with |n| <= {MAX_EXPONENT}, at most {MAX_DEPTH} nested parentheses")
 
 
+class _NotANumber(UnitError):
+    """The text does not start with a number (to_si words this for its own callers)."""
+
+
 def _tokens(text, where):
     tokens, pos = [], 0
     while pos < len(text):
@@ -190,13 +194,13 @@ def parse_quantity(text, name="value"):
     stripped = text.strip()
     match = _NUMBER.match(stripped)
     if not match:
-        raise UnitError(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
+        raise _NotANumber(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
     value = float(match.group(0))
     rest = stripped[match.end():].strip()
     if not rest:
         return value
     if rest[0] not in "(1" and not (rest[0].isalpha() or rest[0] in "µμ°Ω_"):
-        raise UnitError(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
+        raise _NotANumber(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
     unit = parse_unit(rest, name)
     try:
         return registry().Quantity(value, unit)
@@ -240,23 +244,30 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
     if value is None and allow_none:
         return None
     shown_unit = unit or "dimensionless"
+    shown = value  # the messages show what the user gave
     if isinstance(value, str):
-        value = parse_quantity(value, name)
+        try:
+            value = parse_quantity(value, name)
+        except _NotANumber:
+            raise UnitError(
+                f"{name} = {shown!r} is not a number: expected a float in {shown_unit}, a pint quantity "
+                "or a string such as '2e6 N/m'"
+            ) from None
     if _is_quantity(value):
         if unit.startswith("rad") and "hertz" in str(value.units):
             raise UnitError(
-                f"{name} = {value!r}: Hz is ambiguous for an angular quantity (pint takes 1 Hz = 1 rad/s); "
+                f"{name} = {shown!r}: Hz is ambiguous for an angular quantity (pint takes 1 Hz = 1 rad/s); "
                 f"give {shown_unit}, rpm or turn/s (e.g. 50 Hz spin = 50 turn/s)"
             )
         try:
             magnitude = value.to(unit or "dimensionless").magnitude
         except Exception as exc:  # pint's DimensionalityError and friends
             raise UnitError(
-                f"{name} = {value!r} has the wrong unit: expected a quantity in {shown_unit}"
+                f"{name} = {shown!r} has the wrong unit: expected a quantity in {shown_unit}"
             ) from exc
     elif isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise UnitError(
-            f"{name} = {value!r} is not a number: expected a float in {shown_unit} "
+            f"{name} = {shown!r} is not a number: expected a float in {shown_unit} "
             "or a pint quantity"
         )
     else:
@@ -264,13 +275,13 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
     try:
         magnitude = float(magnitude)
     except OverflowError as exc:
-        raise ParameterError(f"{name} = {value!r} is too large: expected a finite value in {shown_unit}") from exc
+        raise ParameterError(f"{name} = {shown!r} is too large: expected a finite value in {shown_unit}") from exc
     except (TypeError, ValueError) as exc:
-        raise UnitError(f"{name} = {value!r} is not a scalar number in {shown_unit}") from exc
+        raise UnitError(f"{name} = {shown!r} is not a scalar number in {shown_unit}") from exc
     if not math.isfinite(magnitude):
-        raise ParameterError(f"{name} = {value!r} is not finite: expected a finite value in {shown_unit}")
+        raise ParameterError(f"{name} = {shown!r} is not finite: expected a finite value in {shown_unit}")
     if sign == "positive" and not magnitude > 0:
-        raise ParameterError(f"{name} = {value!r} must be > 0 ({shown_unit})")
+        raise ParameterError(f"{name} = {shown!r} must be > 0 ({shown_unit})")
     if sign == "nonnegative" and not magnitude >= 0:
-        raise ParameterError(f"{name} = {value!r} must be >= 0 ({shown_unit})")
+        raise ParameterError(f"{name} = {shown!r} must be >= 0 ({shown_unit})")
     return magnitude

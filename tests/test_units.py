@@ -96,3 +96,11 @@ def test_to_si_reads_strings():
         to_si("inf N/m", "N/m", "k")
     with pytest.raises(UnitError, match="exponent of an exponent"):
         to_si("1 m**9**9", "m", "length")
+
+
+def test_elements_take_quantity_strings():
+    from rotorkit.elements import LumpedMass
+
+    assert LumpedMass(station=1, mass="2500 g").mass == pytest.approx(2.5)
+    with pytest.raises(UnitError, match=r"LumpedMass\.mass = '2 N' has the wrong unit"):
+        LumpedMass(station=1, mass="2 N")

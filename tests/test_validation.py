@@ -82,8 +82,8 @@ BAD_VALUES = {
         lambda: Rotor(name="R", stations=(1,), speed=float("nan")), ParameterError,
         r"Rotor\.speed = nan is not finite.*rad/s"),
     "string for a mass": (
-        lambda: LumpedMass(station=1, mass="10"), UnitError,
-        r"LumpedMass\.mass = '10' is not a number: expected a float in kg"),
+        lambda: LumpedMass(station=1, mass="ten kg"), UnitError,
+        r"LumpedMass\.mass = 'ten kg' is not a number: expected a float in kg"),
     "string for a speed": (
         lambda: Rotor(name="R", stations=(1,), speed="fast"), UnitError,
         r"Rotor\.speed = 'fast' is not a number: expected a float in rad/s"),
@@ -130,7 +130,7 @@ def test_bad_value_raises_named_error(case):
 @pytest.mark.parametrize("builtin, make", [
     (ValueError, lambda: Disk(station=1, mass=-1.0, radius=0.1)),
     (ValueError, lambda: LumpedMass(station=1, mass=float("nan"))),
-    (TypeError, lambda: LumpedMass(station=1, mass="10")),
+    (TypeError, lambda: LumpedMass(station=1, mass="ten")),
     (TypeError, lambda: ElasticSupport(station=1, stiffness=1e6 * u.kg)),
 ])
 
@@ -372,7 +372,7 @@ WITH_PARAMETERS_ERRORS = {
                    r"support1_stiffness = .*kilogram.* wrong unit: expected a quantity in N/m"),
     "negative": (dict(support1_stiffness=-3.0), ParameterError, r"support1_stiffness = -3\.0 must be > 0 \(N/m\)"),
     "NaN": (dict(disk1_mass=float("nan")), ParameterError, r"disk1_mass = nan is not finite.*kg"),
-    "string": (dict(disk1_mass="1"), UnitError, r"disk1_mass = '1' is not a number.*kg"),
+    "string": (dict(disk1_mass="one"), UnitError, r"disk1_mass = 'one' is not a number.*kg"),
     "bool": (dict(disk1_mass=True), UnitError, r"disk1_mass = True is not a number.*kg"),
 }
 
