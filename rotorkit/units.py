@@ -7,6 +7,7 @@ any pint registry is accepted: it is converted with its own registry.
 import math
 import numbers
 import re
+from fractions import Fraction
 
 from .errors import ParameterError, UnitError
 
@@ -35,7 +36,7 @@ _NUMBER = re.compile(r"[+-]?(?:inf(?:inity)?|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1
 _TOKEN = re.compile(r"\s*(?:(?P<name>(?:[^\W\d]|°)(?:\w|°)*)|(?P<int>[+-]?[\d.]+)|(?P<op>\*\*|[*/^()·]))")
 _NAME = re.compile(r"[A-Za-zµμ°Ω_]+")
 _GRAMMAR = ("a number, optionally followed by a unit expression: unit names joined by *, / or a space, "
-            f"integer exponents ^n or **n with |n| <= {MAX_EXPONENT}, at most {MAX_DEPTH} nested parentheses")
+            f"exponents ^n or **n (n, 1.5 or (3/2)) with |n| <= {MAX_EXPONENT}, at most {MAX_DEPTH} nested parentheses")
 
 
 class _NotANumber(UnitError):
@@ -104,7 +105,7 @@ class _UnitParser:
             self.names += 1
             if self.names > MAX_NAMES:
                 self.fail(f"more than {MAX_NAMES} unit names")
-            powers = {text: 1}
+            powers = {text: Fraction(1)}
         elif kind == "op" and text == "(":
             if depth >= MAX_DEPTH:
                 self.fail(f"more than {MAX_DEPTH} nested parentheses")
@@ -116,10 +117,7 @@ class _UnitParser:
         kind, text = self.peek()
         if kind == "op" and text in ("^", "**"):
             self.take()
-            kind, text = self.take()
-            if kind != "int" or not re.fullmatch(r"[+-]?\d{1,2}", text):
-                self.fail(f"the exponent {text!r} is not a small integer")
-            exponent = int(text)
+            exponent = self.exponent()
             powers = {name: power * exponent for name, power in powers.items()}
             if self.peek() in (("op", "^"), ("op", "**")):
                 self.fail("an exponent of an exponent")
@@ -127,6 +125,18 @@ class _UnitParser:
             if abs(power) > MAX_EXPONENT:
                 self.fail(f"{name} to the power {power}")
         return powers
+
+    def exponent(self):
+        """A small exponent: ``n``, ``n.5`` style decimals (``1.5``) or a fraction in parentheses ``(3/2)``."""
+        kind, text = self.take()
+        if kind == "int" and re.fullmatch(r"[+-]?\d{1,2}(?:\.\d{1,2})?", text):
+            return Fraction(text)
+        if (kind, text) == ("op", "("):
+            (k1, num), (k2, op), (k3, den), (k4, close) = (self.take() for _ in range(4))
+            if (k1, k2, k3, k4, op, close) == ("int", "op", "int", "op", "/", ")") and \
+                    re.fullmatch(r"[+-]?\d{1,2}", num) and re.fullmatch(r"\d{1,2}", den) and int(den) > 0:
+                return Fraction(int(num), int(den))
+        self.fail(f"the exponent {text!r} is not a small number (n, 1.5 or (3/2))")
 
     def merge(self, powers, more, sign):
         for name, power in more.items():
@@ -140,7 +150,7 @@ def parse_unit(text, name="unit"):
 
     pint's own string evaluation is never used on the whole text: the
     expression is parsed here (unit names, ``*``, ``/``, a space, ``^n`` or
-    ``**n`` with ``|n| <= 12``, at most 3 nested parentheses) and only single
+    ``**n`` (an integer, a short decimal such as 1.5 or a fraction ``(3/2)``) with ``|n| <= 12``, at most 3 nested parentheses) and only single
     unit names are looked up in the registry, so no text can make it hang.
 
     Raises
@@ -163,7 +173,7 @@ def parse_unit(text, name="unit"):
         if power == 0:
             continue
         try:
-            unit = unit * ureg.Unit(unit_name) ** power
+            unit = unit * ureg.Unit(unit_name) ** (int(power) if power.denominator == 1 else float(power))
         except Exception as exc:  # pint's UndefinedUnitError and friends
             raise UnitError(f"{where}: {unit_name!r} is not a unit pint knows (e.g. N/m, mm, rpm, kg*m^2)") from exc
     return unit

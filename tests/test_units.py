@@ -23,6 +23,9 @@ from rotorkit.units import MAX_EXPONENT, parse_quantity, parse_unit, to_si
     ("7 um", "m", 7e-6),
     ("+.5 mm", "m", 5e-4),
     ("90 °", "rad", 3.141592653589793 / 2),
+    ("3e9 N/m**1.5", "N/m**1.5", 3e9),  # Hertzian contact stiffness
+    ("3e9 N/m^(3/2)", "N/m**1.5", 3e9),
+    ("4 (m^(1/2))^2", "m", 4.0),
 ])
 def test_parse_quantity_reads_units(text, si_unit, expected):
     quantity = parse_quantity(text, "x")
@@ -45,7 +48,8 @@ def test_parse_quantity_without_unit_is_a_float():
     ("1 bogus_unit", "not a unit pint knows"),
     ("1 m2", "not a unit name"),
     ("1 m^13", "m to the power 13"),
-    ("1 m^0.5", "not a small integer"),
+    ("1 m^0.333", "not a small number"),
+    ("1 m^(1/0)", "not a small number"),
     ("1 ((m)", "unbalanced parentheses"),
     ("1 m)", "unexpected"),
     ("1 ((((m))))", "nested parentheses"),
