@@ -195,9 +195,9 @@ _JIT_CACHE = {}
 def _numba_function(module, name):
     func = _JIT_CACHE.get((module.__name__, name))
     if func is None:
-        import numba
+        from .codegen import cache
 
-        func = numba.njit(cache=True, error_model="numpy")(getattr(module, name))
+        func = cache.jit(module, name, error_model="numpy")  # numba's disk cache verified (codegen/cache.py)
         _JIT_CACHE[(module.__name__, name)] = func
     return func
 

@@ -1,45 +1,75 @@
-"""The on-disk cache of generated models, and atomic file writes.
+"""The on-disk cache of generated models: only what rotorkit wrote is ever run.
 
 A model's generated right-hand side depends only on its *structure* (which
 elements, on which stations, which effects; not the parameter values), so it
 is stored under the model's ``structure_key``::
 
-    <cache>/models/<key>/rhs.py      generated source (numba caches its
-                                     machine code beside it, in __pycache__)
-    <cache>/models/<key>/meta.json   format, key, HMAC-SHA256 of rhs.py
-    <cache>/secret.key               a random key, readable by this user only
+    <cache>/models/<key>/rhs.py          generated source
+    <cache>/models/<key>/meta.json       format, key, HMAC-SHA256 of rhs.py
+    <cache>/models/<key>/__pycache__/    numba's machine code (*.nbi, *.nbc)
+    <cache>/models/<key>/numba.sig.json  HMAC of every file in __pycache__
+    <cache>/secret.key                   a random key, readable by this user only
 
-A warm start loads ``rhs.py`` without deriving anything. An entry is used
-only if ``meta.json`` parses as JSON (data, never code), names this format
-and key, and the source's HMAC under *this user's* secret key matches;
-anything else (truncated file, stale format, an entry copied from another
-machine or user, planted content) is discarded and rebuilt, never an error
-and never imported.
+What is trusted
+---------------
+* ``rhs.py`` is read once, its HMAC under *this user's* secret key checked,
+  and the very text that was checked is compiled and executed: Python's
+  import machinery (and so any ``.pyc`` file) is never used.
+* numba's cache files are pickles. Before numba reads them (load or save),
+  every file in ``__pycache__`` must carry a valid HMAC in
+  ``numba.sig.json``; any other file is removed first (planted, damaged or
+  left by a crash) and numba recompiles. After numba writes, the files are
+  signed. If numba would put its cache anywhere else (``NUMBA_CACHE_DIR``),
+  the model is compiled without numba's disk cache.
+* Every folder is created ``0o700`` whatever the umask, files ``0o600``. The
+  cache folder, ``models/`` and each entry must belong to this user and not
+  be writable by others; a cache folder that is not is refused with a warning
+  (a private temporary folder is used), an entry that is not is removed with
+  a warning and rebuilt.
 
-The cache folder is ``$ROTORKIT_CACHE_DIR`` or ``~/.cache/rotorkit``. Its
-entries are Python source that is imported, so the folder must belong to the
-current user and not be writable by others; otherwise rotorkit falls back to
-a private temporary folder (with a warning) rather than run code others could
-have planted.
+A damaged cache never stops a run: an entry that does not verify (truncated,
+stale format, another user's or machine's key) is rebuilt silently; a folder
+that cannot be used (unreadable, replaced by a file, a key file replaced by
+a folder, disk full) gives one warning and the model is built in memory.
+
+The cache folder is ``$ROTORKIT_CACHE_DIR`` or ``~/.cache/rotorkit``.
 """
 
 import hashlib
 import hmac
-import importlib.util
 import json
 import os
 import shutil
 import stat
 import sys
 import tempfile
+import types
 import warnings
 from pathlib import Path
 
-from ..files import atomic_write_text
+from ..files import atomic_write_bytes, atomic_write_text
 
-__all__ = ["cache_dir", "load", "store", "clear", "info"]
+__all__ = ["cache_dir", "load", "store", "clear", "info", "jit"]
 
 FORMAT = "rotorkit-model-cache-2"
+SIGNATURES = "numba.sig.json"
+_WARNED = set()
+
+
+class CacheWarning(UserWarning):
+    """The model cache could not be used as is (it is rebuilt or bypassed)."""
+
+
+def _warn_once(message, topic=None):
+    """One warning per topic and process: a damaged cache must not flood a sweep's log."""
+    topic = topic or message
+    if topic not in _WARNED:
+        _WARNED.add(topic)
+        warnings.warn(message, CacheWarning, stacklevel=3)
+
+
+class _NotPrivate(OSError):
+    """A folder or file another user can write (or that is not ours)."""
 
 
 def _private(path):
@@ -50,31 +80,66 @@ def _private(path):
     return st.st_uid == os.getuid() and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
 
 
+def _private_dir(path):
+    """Create ``path`` (and missing parents) ``0o700`` whatever the umask, or check it; OSError if unusable."""
+    path = Path(path)
+    missing = []
+    probe = path
+    while not os.path.lexists(probe) and probe != probe.parent:
+        missing.append(probe)
+        probe = probe.parent
+    for folder in reversed(missing):
+        try:
+            folder.mkdir(mode=0o700)
+            os.chmod(folder, 0o700)  # mkdir's mode is masked by the umask; 0o700 is what we want
+        except FileExistsError:
+            pass
+    if not path.is_dir():
+        raise NotADirectoryError(f"{path} is not a folder")
+    if not _private(path):
+        raise _NotPrivate(f"{path} is writable by others or not yours")
+    if not os.access(path, os.R_OK | os.W_OK | os.X_OK):
+        raise PermissionError(f"{path} is not readable and writable by you")
+    return path
+
+
+def _remove(path):
+    """Remove a file, link or folder tree (making our own unreadable folders readable); OSError if it cannot."""
+    if os.path.islink(path) or not os.path.isdir(path):
+        os.unlink(path)
+        return
+
+    def make_writable_and_retry(function, failed, _exc_info):
+        for folder in {os.path.dirname(failed), failed}:
+            if os.path.isdir(folder) and not os.path.islink(folder):
+                os.chmod(folder, 0o700)
+        function(failed)
+
+    os.chmod(path, 0o700)
+    shutil.rmtree(path, onerror=make_writable_and_retry)
+
+
 def cache_dir():
-    """The cache folder (created private if missing)."""
+    """The cache folder (created private if missing; a private temporary folder if it cannot be used)."""
     env = os.environ.get("ROTORKIT_CACHE_DIR")
     base = Path(env) if env else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rotorkit"
     try:
-        base.mkdir(mode=0o700, parents=True, exist_ok=True)
-        if _private(base):
-            return base
-        warnings.warn(f"rotorkit cache folder {base} is writable by others or not yours; "
-                      "using a private temporary folder instead", stacklevel=2)
-    except OSError:
-        pass
+        return _private_dir(base)
+    except _NotPrivate:
+        _warn_once(f"rotorkit cache folder {base} is writable by others or not yours; "
+                   "using a private temporary folder instead", topic=("base", str(base)))
+    except OSError as exc:
+        _warn_once(f"rotorkit cache folder {base} cannot be used ({exc}); "
+                   "using a private temporary folder instead", topic=("base", str(base)))
     fallback = Path(tempfile.gettempdir()) / f"rotorkit-cache-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
-    fallback.mkdir(mode=0o700, parents=True, exist_ok=True)
-    if not _private(fallback):
-        fallback = Path(tempfile.mkdtemp(prefix="rotorkit-cache-"))
-    return fallback
-
-
-def _entry(key):
-    return cache_dir() / "models" / key
+    try:
+        return _private_dir(fallback)
+    except OSError:
+        return Path(tempfile.mkdtemp(prefix="rotorkit-cache-"))  # mkdtemp: 0o700, ours
 
 
 def _secret():
-    """This user's random signing key (created on first use, mode 0600)."""
+    """This user's random signing key (created on first use, mode 0600); OSError if it cannot be kept."""
     path = cache_dir() / "secret.key"
     try:
         key = path.read_bytes()
@@ -82,68 +147,231 @@ def _secret():
             return key
     except OSError:
         pass
+    if os.path.lexists(path):
+        _remove(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
     key = os.urandom(32)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".secret.")
-    with os.fdopen(fd, "wb") as fh:  # mkstemp: mode 0600
-        fh.write(key)
-    os.replace(tmp, path)
+    atomic_write_bytes(path, key, mode=0o600)
     return key
 
 
-def _digest(source):
+def _digest(source, secret=None):
     """HMAC-SHA256 of the source under this user's key: only entries we wrote verify."""
-    return hmac.new(_secret(), source.encode("utf-8"), hashlib.sha256).hexdigest()
+    return hmac.new(secret or _secret(), source.encode("utf-8"), hashlib.sha256).hexdigest()
 
 
-def _import(key, path):
+def _file_digest(secret, name, data):
+    return hmac.new(secret, b"numba-cache-file\0" + name.encode() + b"\0" + data, hashlib.sha256).hexdigest()
+
+
+def _execute(key, source, path=None):
+    """Run the (verified) source text as module ``rotorkit_generated_<key>``; no import machinery, no .pyc."""
     name = f"rotorkit_generated_{key}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = types.ModuleType(name)
+    module.__file__ = str(path) if path else f"<rotorkit generated model {key}>"
+    module.__rotorkit_entry__ = Path(path).parent if path else None
+    exec(compile(source, module.__file__, "exec", dont_inherit=True), module.__dict__)
     sys.modules[name] = module
     return module
 
 
+def _rebuilt_dir(folder):
+    """``folder`` as a private folder; replaced (with a warning) if it is not one (others can write it, a file)."""
+    try:
+        return _private_dir(folder)
+    except (NotADirectoryError, _NotPrivate, PermissionError) as exc:
+        _warn_once(f"rotorkit cache folder {folder} cannot be trusted or used ({exc}); "
+                   "it is removed and rebuilt", topic=("folder", str(folder)))
+        _remove(folder)
+        return _private_dir(folder)
+
+
+def _models():
+    return _rebuilt_dir(cache_dir() / "models")
+
+
 def load(key):
     """The cached module for ``key``, or None (missing, stale or damaged entries are removed)."""
-    entry = _entry(key)
-    source_path, meta_path = entry / "rhs.py", entry / "meta.json"
-    if not meta_path.exists():
-        return None
     try:
-        meta = json.loads(meta_path.read_text(encoding="utf-8"))
-        source = source_path.read_text(encoding="utf-8")
-        valid = (isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("key") == key
-                 and isinstance(meta.get("hmac"), str) and hmac.compare_digest(meta["hmac"], _digest(source)))
-        if valid:
-            module = _import(key, source_path)
+        entry = _models() / key
+        if not os.path.lexists(entry):
+            return None
+        if entry.is_symlink() or not entry.is_dir():
+            raise NotADirectoryError(f"{entry} is not a folder")
+        if not _private(entry):
+            _warn_once(f"rotorkit cache entry {entry} is writable by others or not yours; "
+                       "it is removed and rebuilt", topic=("entry", str(entry)))
+            _remove(entry)
+            return None
+        meta = json.loads((entry / "meta.json").read_text(encoding="utf-8"))
+        source = (entry / "rhs.py").read_text(encoding="utf-8")
+    except (OSError, ValueError) as exc:  # unreadable, a file in place of a folder, not UTF-8, not JSON
+        return _discard(key, exc)
+    valid = (isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("key") == key
+             and isinstance(meta.get("hmac"), str) and hmac.compare_digest(meta["hmac"], _digest(source)))
+    if valid:
+        try:
+            module = _execute(key, source, entry / "rhs.py")  # the text just verified, not a re-read
             if module.STATE_NAMES and len(module.STATE_NAMES) == 2 * module.N_COORDINATES:
                 return module
-    except Exception:  # damaged entry: whatever it is, rebuild it
-        pass
-    shutil.rmtree(entry, ignore_errors=True)
+        except Exception:  # noqa: BLE001 - a verified entry that does not run: rebuild it
+            pass
+    return _discard(key, None)
+
+
+def _discard(key, error):
+    """Remove a stale or damaged entry (warning once when it was damaged rather than stale)."""
+    try:
+        entry = cache_dir() / "models" / key
+        if os.path.lexists(entry):
+            _remove(entry)
+    except OSError:
+        pass  # store() will find it unusable and build in memory
+    if error is not None and not isinstance(error, (FileNotFoundError, json.JSONDecodeError, UnicodeDecodeError)):
+        _warn_once(f"rotorkit cache entry for model {key} was damaged ({error}); it is rebuilt",
+                   topic=("damaged", key))
     return None
 
 
 def store(key, source):
-    """Write a generated module for ``key`` and import it."""
-    entry = _entry(key)
-    atomic_write_text(entry / "rhs.py", source)
-    atomic_write_text(entry / "meta.json", json.dumps({"format": FORMAT, "key": key, "hmac": _digest(source)}))
-    return _import(key, entry / "rhs.py")
+    """Write a generated module for ``key`` and run it (in memory, with one warning, if the cache cannot be written)."""
+    try:
+        entry = _models() / key
+        if os.path.lexists(entry) and (entry.is_symlink() or not entry.is_dir() or not _private(entry)):
+            _remove(entry)
+        _private_dir(entry)
+        _private_dir(entry / "__pycache__")  # before numba creates it with the umask
+        secret = _secret()
+        atomic_write_text(entry / "rhs.py", source, mode=0o600)
+        meta = {"format": FORMAT, "key": key, "hmac": _digest(source, secret)}
+        atomic_write_text(entry / "meta.json", json.dumps(meta), mode=0o600)
+    except OSError as exc:
+        _warn_once(f"rotorkit cache cannot store model {key} ({exc}); it is built in memory "
+                   "and compiled again in every process until the cache folder is usable "
+                   "(see 'rotorkit cache info')", topic=("store", type(exc).__name__))
+        return _execute(key, source)
+    return _execute(key, source, entry / "rhs.py")
+
+
+# -- numba's cache files ------------------------------------------------------
+
+
+def _verify_numba_files(entry):
+    """Remove every file of ``entry/__pycache__`` that does not carry this user's signature."""
+    folder = entry / "__pycache__"
+    _private_dir(folder)
+    secret = _secret()
+    try:
+        signed = json.loads((entry / SIGNATURES).read_text(encoding="utf-8"))
+        signed = signed if isinstance(signed, dict) else {}
+    except (OSError, ValueError):
+        signed = {}
+    removed = []
+    for path in folder.iterdir():
+        good = False
+        if path.is_file() and not path.is_symlink() and isinstance(signed.get(path.name), str):
+            good = hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, path.read_bytes()))
+        if not good:
+            _remove(path)
+            removed.append(path.name)
+    if removed:
+        _warn_once(f"rotorkit cache: removed {len(removed)} file(s) from {folder} that rotorkit did not sign "
+                   f"({', '.join(sorted(removed)[:3])}{', ...' if len(removed) > 3 else ''}: damaged, "
+                   "left by an interrupted run or planted); numba compiles again", topic=("numba", str(folder)))
+
+
+def _sign_numba_files(entry):
+    secret = _secret()
+    folder = entry / "__pycache__"
+    signed = {}
+    for path in folder.iterdir():
+        if path.is_file() and not path.is_symlink():
+            os.chmod(path, 0o600)  # numba writes them with the umask
+            signed[path.name] = _file_digest(secret, path.name, path.read_bytes())
+    atomic_write_text(entry / SIGNATURES, json.dumps(signed, sort_keys=True), mode=0o600)
+
+
+def _guard(dispatcher, entry):
+    """Make numba verify its cache files before reading them and sign them after writing; False if impossible."""
+    function_cache = getattr(dispatcher, "_cache", None)
+    path = getattr(function_cache, "_cache_path", None)
+    load_overload = getattr(function_cache, "load_overload", None)
+    save_overload = getattr(function_cache, "save_overload", None)
+    if path is None or load_overload is None or save_overload is None:
+        return False
+    if os.path.realpath(path) != os.path.realpath(entry / "__pycache__"):
+        return False  # NUMBA_CACHE_DIR or an unwritable entry: numba would read files we do not check
+
+    def verified_load(*args, **kwargs):
+        try:
+            _verify_numba_files(entry)
+            return load_overload(*args, **kwargs)
+        except Exception as exc:  # noqa: BLE001 - a damaged cache file: compile instead
+            _warn_once(f"rotorkit cache: numba's cache in {path} could not be read ({type(exc).__name__}: {exc}); "
+                       "it is removed and numba compiles again", topic=("numba-load", str(path)))
+            shutil.rmtree(path, ignore_errors=True)
+            return None
+
+    def signed_save(*args, **kwargs):
+        try:
+            _verify_numba_files(entry)  # numba reads its index again before adding to it
+            save_overload(*args, **kwargs)
+            _sign_numba_files(entry)
+        except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
+            _warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
+                       f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
+            shutil.rmtree(path, ignore_errors=True)
+
+    function_cache.load_overload = verified_load
+    function_cache.save_overload = signed_save
+    return True
+
+
+def jit(module, name, **options):
+    """numba dispatcher for function ``name`` of a generated module, its on-disk cache verified.
+
+    Only a module stored in a private cache entry gets numba's disk cache
+    (``cache=True``), guarded as described in the module docstring; any other
+    module (built in memory) is compiled without it.
+    """
+    import numba
+
+    function = getattr(module, name)
+    entry = getattr(module, "__rotorkit_entry__", None)
+    if entry is not None:
+        try:
+            _rebuilt_dir(entry / "__pycache__")
+            dispatcher = numba.njit(cache=True, **options)(function)
+            if _guard(dispatcher, entry):
+                return dispatcher
+        except (OSError, RuntimeError) as exc:  # numba: "cannot cache function ...: no locator available"
+            _warn_once(f"rotorkit cache: numba's disk cache cannot be used for {entry} ({exc}); "
+                       "compiling in memory", topic=("numba-jit", str(entry)))
+    return numba.njit(cache=False, **options)(function)
 
 
 def info():
     """(folder, number of cached models, bytes on disk)."""
     base = cache_dir()
     models = base / "models"
-    count = sum(1 for p in models.iterdir() if p.is_dir()) if models.exists() else 0
-    size = sum(p.stat().st_size for p in base.rglob("*") if p.is_file())
+    try:
+        count = sum(1 for p in models.iterdir() if p.is_dir()) if models.is_dir() else 0
+    except OSError:
+        count = 0
+    size = 0
+    for root, _dirs, files in os.walk(base):
+        for name in files:
+            try:
+                size += os.lstat(os.path.join(root, name)).st_size
+            except OSError:
+                pass
     return base, count, size
 
 
 def clear():
     """Remove every cached model (and numba's machine code beside it); returns how many."""
     base, count, _ = info()
-    shutil.rmtree(base / "models", ignore_errors=True)
+    models = base / "models"
+
+    if os.path.lexists(models):
+        _remove(models)
     return count

@@ -1,0 +1,246 @@
+"""The model cache runs only what rotorkit wrote, and a damaged cache never stops a run.
+
+Each planted file below would run code (create a marker file) if it were
+loaded; a control in each test shows that it does, when loaded the way
+Python or numba would load it without rotorkit's checks.
+"""
+
+import importlib.util
+import os
+import pickle
+import stat
+import warnings
+
+import numpy as np
+import pytest
+
+import rotorkit as rk
+from rotorkit import system as system_module
+from rotorkit.codegen import cache
+from rotorkit.symbolic import lagrange
+
+pytest.importorskip("numba")
+POSIX = pytest.mark.skipif(not hasattr(os, "getuid"), reason="POSIX permissions")
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setattr(cache.tempfile, "tempdir", str(tmp_path / "tmp"))  # fallback folders stay in tmp_path
+    (tmp_path / "tmp").mkdir()
+    forget(monkeypatch)
+    return tmp_path / "cache"
+
+
+def forget(monkeypatch):
+    """A new process: nothing in memory, no warning given yet."""
+    monkeypatch.setattr(system_module, "_MODULES", {})
+    monkeypatch.setattr(system_module, "_JIT_CACHE", {})
+    monkeypatch.setattr(lagrange, "_CACHE", {})
+    monkeypatch.setattr(cache, "_WARNED", set())
+
+
+def jeffcott():
+    return rk.Model([rk.Rotor(name="R", stations=(1,), speed=50.0),
+                     rk.Disk(station=1, mass=1.0, radius=0.1, eccentricity=1e-4),
+                     rk.ElasticSupport(station=1, stiffness=1e4, damping=2.0)])
+
+
+Y = np.r_[1e-3, 0.0, 0.0, 0.0]
+EXPECTED = -1e4 * 1e-3 + 1e-4 * 50.0**2  # x'' at t = 0: -k x / m + e w^2
+
+
+def run(backend="numba"):
+    """Compile and evaluate the RHS once (numba compiles, or loads its cache, here)."""
+    system = jeffcott().compile(backend=backend)
+    return system.rhs(0.0, Y)[2]
+
+
+def entry_of(folder):
+    return folder / "models" / jeffcott().structure_key
+
+
+class Planted:
+    """Unpickling this creates ``marker``: what a hostile cache file would do."""
+
+    def __init__(self, marker):
+        self.marker = str(marker)
+
+    def __reduce__(self):
+        return open, (self.marker, "w")
+
+
+def cache_warnings(record):
+    return [w for w in record if issubclass(w.category, cache.CacheWarning)]
+
+
+def numba_files(entry, suffix):
+    files = sorted((entry / "__pycache__").glob(f"*{suffix}"))
+    assert files, f"numba wrote no {suffix} file in {entry / '__pycache__'}"
+    return files
+
+
+@pytest.mark.parametrize("suffix", [".nbi", ".nbc"])
+def test_a_planted_numba_cache_file_is_never_unpickled(fresh_cache, tmp_path, monkeypatch, suffix):
+    assert run() == pytest.approx(EXPECTED)
+    entry = entry_of(fresh_cache)
+    marker = tmp_path / "ran"
+    for path in numba_files(entry, suffix):
+        path.write_bytes(pickle.dumps(Planted(marker)))
+    forget(monkeypatch)
+    with pytest.warns(cache.CacheWarning, match="did not sign"):
+        assert run() == pytest.approx(EXPECTED)
+    assert not marker.exists()
+    # control: numba's own loader (pickle) would have run it
+    pickle.loads(pickle.dumps(Planted(marker)))
+    assert marker.exists()
+
+
+def test_a_planted_pyc_with_a_matching_header_is_never_loaded(fresh_cache, tmp_path, monkeypatch):
+    run(backend="python")
+    entry = entry_of(fresh_cache)
+    source = entry / "rhs.py"
+    marker = tmp_path / "ran"
+    hostile = source.read_text() + f"\nopen({str(marker)!r}, 'w').close()\n"
+    st = source.stat()
+    code = compile(hostile, str(source), "exec")
+    pyc = importlib._bootstrap_external._code_to_timestamp_pyc(code, st.st_mtime, st.st_size)
+    target = importlib.util.cache_from_source(str(source))
+    os.makedirs(os.path.dirname(target), exist_ok=True)
+    with open(target, "wb") as fh:
+        fh.write(pyc)
+    forget(monkeypatch)
+    assert run(backend="python") == pytest.approx(EXPECTED)
+    assert not marker.exists()
+    # control: Python's import machinery (what the cache used before) takes the planted .pyc
+    spec = importlib.util.spec_from_file_location("control_module", source)
+    spec.loader.exec_module(importlib.util.module_from_spec(spec))
+    assert marker.exists()
+    marker.unlink()
+    with pytest.warns(cache.CacheWarning, match="did not sign"):  # numba's folder holds only signed files
+        assert run(backend="numba") == pytest.approx(EXPECTED)
+    assert not marker.exists() and not os.path.exists(target)
+
+
+@pytest.mark.parametrize("damage", ["truncated", "garbage"])
+@pytest.mark.parametrize("suffix", [".nbi", ".nbc"])
+def test_a_damaged_signed_numba_file_is_rebuilt_with_one_warning(fresh_cache, monkeypatch, damage, suffix):
+    """Signed (so they pass the check) but unreadable: numba's bare UnpicklingError becomes one warning."""
+    run()
+    entry = entry_of(fresh_cache)
+    for path in numba_files(entry, suffix):
+        data = path.read_bytes()
+        path.write_bytes(data[: len(data) // 3] if damage == "truncated" else os.urandom(len(data)))
+    cache._sign_numba_files(entry)
+    forget(monkeypatch)
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        assert run() == pytest.approx(EXPECTED)
+        forget_only_memory(monkeypatch)
+        assert run() == pytest.approx(EXPECTED)
+    assert len(cache_warnings(record)) == 1, [str(w.message) for w in record]
+    forget(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        assert run() == pytest.approx(EXPECTED)  # repaired: the next process is quiet
+
+
+def forget_only_memory(monkeypatch):
+    monkeypatch.setattr(system_module, "_MODULES", {})
+    monkeypatch.setattr(system_module, "_JIT_CACHE", {})
+
+
+@POSIX
+def test_every_folder_and_file_is_private_under_a_permissive_umask(fresh_cache):
+    old = os.umask(0)
+    try:
+        run()
+        run(backend="python")
+    finally:
+        os.umask(old)
+    checked = 0
+    for root, dirs, files in os.walk(fresh_cache):
+        for name in dirs + files:
+            mode = os.lstat(os.path.join(root, name)).st_mode
+            assert not mode & 0o077, f"{os.path.join(root, name)} has mode {stat.filemode(mode)}"
+            checked += 1
+    assert not os.stat(fresh_cache).st_mode & 0o077
+    assert checked >= 7  # models, entry, __pycache__, rhs.py, meta.json, secret.key, numba files
+
+
+@POSIX
+@pytest.mark.parametrize("where", ["models", "entry", "__pycache__"])
+def test_a_folder_others_can_write_is_refused_and_rebuilt(fresh_cache, tmp_path, monkeypatch, where):
+    run()
+    entry = entry_of(fresh_cache)
+    folder = {"models": fresh_cache / "models", "entry": entry, "__pycache__": entry / "__pycache__"}[where]
+    folder.chmod(0o777)
+    marker = tmp_path / "ran"
+    for path in numba_files(entry, ".nbi"):
+        path.write_bytes(pickle.dumps(Planted(marker)))
+    cache._sign_numba_files(entry)  # even files that look signed: the folder itself is not trusted
+    forget(monkeypatch)
+    with pytest.warns(cache.CacheWarning):
+        assert run() == pytest.approx(EXPECTED)
+    assert not marker.exists()
+    assert not folder.stat().st_mode & 0o077
+
+
+@pytest.mark.parametrize("damage", ["entry-is-a-file", "models-is-a-file", "key-is-a-folder", "meta-is-a-folder",
+                                    "unreadable-entry", "unreadable-cache"])
+def test_a_damaged_cache_folder_is_rebuilt_with_one_warning(fresh_cache, monkeypatch, damage):
+    run()
+    entry = entry_of(fresh_cache)
+    if damage == "entry-is-a-file":
+        cache._remove(entry)
+        entry.write_text("not a folder")
+    elif damage == "models-is-a-file":
+        cache._remove(fresh_cache / "models")
+        (fresh_cache / "models").write_text("not a folder")
+    elif damage == "key-is-a-folder":
+        (fresh_cache / "secret.key").unlink()
+        (fresh_cache / "secret.key").mkdir()
+    elif damage == "meta-is-a-folder":
+        (entry / "meta.json").unlink()
+        (entry / "meta.json").mkdir()
+    else:
+        folder = entry if damage == "unreadable-entry" else fresh_cache
+        folder.chmod(0)
+        if os.geteuid() == 0:  # root reads anything: make the checks see what a user would
+            real_access, real_read = os.access, type(entry).read_text
+
+            def access(path, mode, **kwargs):
+                if os.path.abspath(path) == str(folder) and not os.stat(path).st_mode & 0o700:
+                    return False
+                return real_access(path, mode, **kwargs)
+
+            def read_text(self, *args, **kwargs):
+                if str(self).startswith(str(folder) + os.sep) and not folder.stat().st_mode & 0o700:
+                    raise PermissionError(13, "Permission denied", str(self))
+                return real_read(self, *args, **kwargs)
+
+            monkeypatch.setattr(os, "access", access)
+            monkeypatch.setattr(type(entry), "read_text", read_text)
+    forget(monkeypatch)
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        assert run() == pytest.approx(EXPECTED)
+        assert run(backend="python") == pytest.approx(EXPECTED)
+    expected_warnings = 0 if damage == "key-is-a-folder" else 1  # a new key: old entries just do not verify
+    assert len(cache_warnings(record)) == expected_warnings, [str(w.message) for w in record]
+    if damage == "unreadable-cache":
+        fresh_cache.chmod(0o700)
+
+
+def test_numba_cache_elsewhere_is_not_used(fresh_cache, tmp_path, monkeypatch):
+    """With NUMBA_CACHE_DIR numba would read files rotorkit does not check: the model compiles without them."""
+    from numba.core import config
+
+    elsewhere = tmp_path / "numba-elsewhere"
+    monkeypatch.setattr(config, "CACHE_DIR", str(elsewhere))
+    assert run() == pytest.approx(EXPECTED)
+    assert not elsewhere.exists() or not any(elsewhere.rglob("*.nbi"))
+    monkeypatch.setattr(config, "CACHE_DIR", "")
+    forget(monkeypatch)
+    assert run() == pytest.approx(EXPECTED)
+    assert numba_files(entry_of(fresh_cache), ".nbi")  # without it, the verified cache beside rhs.py is used
