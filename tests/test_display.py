@@ -80,8 +80,9 @@ def test_campbell_legend_lists_only_existing_modes():
 
     speeds = np.array([0.0, 100.0, 200.0])
     freqs = np.array([[50.0, 120.0, np.nan], [52.0, 118.0, np.nan], [54.0, 116.0, np.nan]])
-    diagram = Campbell(speeds=speeds, frequencies=freqs, damping_ratios=np.zeros_like(freqs),
-                       rotor_speeds={"R": speeds}, speed_parameter="R_speed")
+    diagram = Campbell(speeds=speeds, frequencies=freqs, natural_frequencies=freqs,
+                       damping_ratios=np.zeros_like(freqs), log_decrements=np.zeros_like(freqs),
+                       whirl=np.full(freqs.shape, "forward"), rotor_speeds={"R": speeds}, speed_parameter="R_speed")
     labels = [t.get_text() for t in plot_campbell(diagram).get_legend().get_texts()]
     assert "mode 1" in labels and "mode 2" in labels and "mode 3" not in labels
 
