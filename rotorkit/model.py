@@ -77,9 +77,9 @@ class Model:
         self._coordinate_set = set(self.coordinates)
         self.coordinate_names = tuple(f"{axis}{station}" for station, axis in self.coordinates)
         self._check_required()
+        self._check_inertia()  # a station without mass first: the other checks assume every station has one
         for e in elements:
             e.check(self)
-        self._check_inertia()
         self._check_stiffness_paths()
         self._check_symbol_names()
 

@@ -1,10 +1,13 @@
 """Figures of the linear-analysis docs (docs/analysis-*.md) from a beam rotor and the AL-31F preset.
 
-Run: ``python examples/linear_analyses.py --out docs/figures/linear``
+Run: ``python bench/linear_figures.py --out docs/figures/linear``
 
 The beam rotor is the 400-coordinate one of ``bench/bench_linear.py``
 (steel shaft of 99 Euler-Bernoulli elements, two disks, two bearings);
 the textbook two-disk rotor of issue 8 will replace it once it exists.
+It lives in bench/ beside the model it draws: it takes minutes (a
+400-coordinate rotor, a 61-speed Campbell diagram, the critical speed map),
+too long for the examples that CI runs.
 """
 
 import argparse
@@ -18,7 +21,7 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "bench"))
+sys.path.insert(0, str(ROOT / "bench"))  # bench_linear.py beside this file
 
 from bench_linear import beam_rotor  # noqa: E402
 
