@@ -33,30 +33,8 @@ DEFAULT_RELATIVE_STEP = 1e-6
 _FLOOR_SCALE = 1e-6
 #: Default number of cage positions averaged over one ball-passing period.
 DEFAULT_CAGE_SAMPLES = 16
-#: A pair is oscillatory when Im(lambda) exceeds this fraction of |lambda|.
-_OSCILLATORY_RTOL = 1e-9
 #: Equilibrium residual tolerance, relative to the load acceleration at q = 0.
 DEFAULT_EQUILIBRIUM_TOL = 1e-9
-
-
-# ---------------------------------------------------------------------------
-# Helpers
-# ---------------------------------------------------------------------------
-
-_FREQUENCY_FACTORS = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
-
-
-def _frequency_factor(units, allowed=tuple(_FREQUENCY_FACTORS)):
-    """Factor from rad/s to ``units``."""
-    if not isinstance(units, str) or units not in allowed:
-        raise ParameterError(f"units={units!r} is not supported: expected one of {tuple(allowed)}")
-    return _FREQUENCY_FACTORS[units]
-
-
-def _readonly(array):
-    array = np.array(array)
-    array.setflags(write=False)
-    return array
 
 
 def _check_system(system, who):
