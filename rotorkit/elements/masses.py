@@ -47,7 +47,9 @@ class Disk(Element):
         ``1/2 I_d (thx'^2 + thy'^2)`` and the gyroscopic term
         ``I_p phi' thx' thy`` (``phi' = Omega (+ alpha')``) to T.
 
-    See :meth:`from_geometry` for a disk built from its width, diameters and material.
+    See Also
+    --------
+    Disk.from_geometry : a disk built from its width, diameters and material.
 
     Examples
     --------
