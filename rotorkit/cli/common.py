@@ -178,7 +178,12 @@ def scene_module(args):
 def load_preset(args):
     """(preset module or :class:`FileScene`, model, overrides) for ``args.preset`` with ``args.set`` applied."""
     module = scene_module(args)
-    known = {**module.DEFAULTS, **getattr(module, "SWITCHES", {})}
+    overrides = parse_overrides(args, {**module.DEFAULTS, **getattr(module, "SWITCHES", {})})
+    return module, module.build(**overrides), overrides
+
+
+def parse_overrides(args, known):
+    """``args.set`` as {name: value}: each a known parameter, given once."""
     overrides = {}
     for text in args.set:
         name, value = parse_assignment(text, known)
@@ -186,7 +191,7 @@ def load_preset(args):
         if name in overrides:
             raise ParameterError(f"--set {name} is given twice; give each parameter once")
         overrides[name] = value
-    return module, module.build(**overrides), overrides
+    return overrides
 
 
 #: the same function under the name that says what it does

@@ -4,7 +4,7 @@ import sys
 from pathlib import Path
 
 from ..errors import ParameterError
-from .common import check_parameter_name, parse_assignment, positive_float, positive_int, save_figure
+from .common import check_parameter_name, parse_overrides, positive_float, positive_int, save_figure
 
 
 def register(sub):
@@ -77,13 +77,7 @@ def main(args):
     space = _space(args)
     for name in space.names:
         check_parameter_name(name, known, args.preset, what="--param")
-    overrides = {}
-    for text in args.set:
-        key, value = parse_assignment(text, known)
-        check_parameter_name(key, known, args.preset)
-        if key in overrides:
-            raise ParameterError(f"--set {key} is given twice; give each parameter once")
-        overrides[key] = value
+    overrides = parse_overrides(args, known)
     # a model file travels to the workers as its elements (data), a preset by name
     scene = Scene.from_model(module.model, outputs=module.OUTPUTS) if isinstance(module, FileScene) else args.preset
     out = Path(args.out or f"rotorkit-out/{args.preset}-sweep-{'-'.join(space.names)}")
