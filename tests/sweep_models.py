@@ -8,6 +8,7 @@ response is the closed form ``unbalance_amplitude``.
 import math
 import os
 import signal
+import time
 
 import sympy as sp
 
@@ -22,6 +23,7 @@ def build_jeffcott(rub_stiffness=2e4, eccentricity=1e-4, singular_load=0.0, spee
     """The rotor; ``singular_load`` adds a load that is NaN after t = 0.3 s; ``crash`` = 1 kills the worker once."""
     if crash == 1.0:
         _crash_once()
+    _hold()
     elements = [
         rk.Rotor(name="R", stations=(1,), speed=speed),
         rk.Disk(station=1, mass=MASS, radius=0.1, eccentricity=eccentricity, torsion=False),
@@ -50,6 +52,13 @@ def _crash_once():
     os.write(fd, str(os.getpid()).encode())
     os.close(fd)
     os.kill(os.getpid(), signal.SIGKILL)
+
+
+def _hold():
+    """Sleep ``RK_SWEEP_HOLD`` seconds in a worker (not the driver): keeps workers busy for as long as a test needs."""
+    hold = float(os.environ.get("RK_SWEEP_HOLD", "0"))
+    if hold and str(os.getpid()) != os.environ.get("RK_SWEEP_DRIVER_PID"):
+        time.sleep(hold)
 
 
 def unbalance_amplitude(eccentricity=1e-4, speed=SPIN):

@@ -54,8 +54,10 @@ def test_a_worker_killed_mid_point_is_retried_and_every_point_stored_once(tmp_pa
 
 
 SCRIPT = textwrap.dedent("""
+    import os
     import sys
     sys.path.insert(0, {tests!r})
+    os.environ["RK_SWEEP_DRIVER_PID"] = str(os.getpid())  # the driver does not hold (sweep_models._hold)
     from rotorkit.sweep import run_sweep
     from sweep_models import build_jeffcott
 
@@ -90,10 +92,11 @@ def _alive(pid):
 def test_killing_the_parent_ends_its_workers_and_a_rerun_computes_only_the_missing_points(tmp_path):
     values = [1e-5, 2e-5, 3e-5, 4e-5, 5e-5, 6e-5]
     out = tmp_path / "out"
-    t_end = 6.0  # long points: the parent dies while the workers are busy
+    t_end = 0.5
     script = tmp_path / "sweep_script.py"
     script.write_text(SCRIPT.format(tests=str(TESTS), values=values, out=str(out), t_end=t_end))
-    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
+           "RK_SWEEP_HOLD": "2.0"}  # every point holds its worker 2 s: the parent dies while the workers are busy
     proc = subprocess.Popen([sys.executable, str(script)], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True)
     try:
