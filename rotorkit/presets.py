@@ -66,4 +66,27 @@ def preset(name, **overrides):
     >>> len(m.coordinate_names)
     16
     """
-    return preset_module(name).build(**overrides)
+    return build_preset(preset_module(name), overrides, name)
+
+
+def build_preset(module, overrides, name=None):
+    """``module.build(**overrides)``; an error caused by one override names that override.
+
+    The preset turns its overrides into element fields (``rub_stiffness`` ->
+    ``RubStator.contact_stiffness``); an element's error names its field, which
+    the user never typed, so the override that triggers it alone is found and named.
+    """
+    from .errors import ParameterError
+
+    try:
+        return module.build(**overrides)
+    except ParameterError as err:
+        label = name or getattr(module, "NAME", module.__name__.rsplit(".", 1)[-1])
+        for key, value in overrides.items():
+            if key in str(err):
+                raise
+            try:
+                module.build(**{key: value})
+            except ParameterError:
+                raise type(err)(f"{label}: override {key}={value!r} is refused: {err}") from err
+        raise

@@ -55,6 +55,11 @@ class Result:
         return result_html(self)
 
     def __getitem__(self, name):
+        if not isinstance(name, str):
+            raise TypeError(
+                f"result[{name!r}]: index a result by signal name, e.g. result['x2'] or result['alpha2-alpha5']; "
+                "for samples use result.t and result.y (shape n_states x n_samples)"
+            )
         if name in self.state_names:
             return self.y[self.state_names.index(name)]
         if "-" in name:
@@ -135,8 +140,36 @@ def _jsonable(d):
     return out
 
 
-def load_result(path):
+#: largest result (all arrays, uncompressed) load_result reads without max_bytes
+MAX_LOAD_BYTES = 8e9
+
+
+def _declared_bytes(path):
+    """Bytes the arrays of an ``.npz`` declare (read from each .npy header, nothing decompressed beyond it)."""
+    import zipfile
+
+    total = 0
+    with zipfile.ZipFile(path) as archive:
+        members = archive.infolist()
+        if len(members) > 16:
+            raise ParameterError(f"{path}: {len(members)} arrays; a rotorkit result holds t, y and meta")
+        for info in members:
+            with archive.open(info) as fh:
+                major, _minor = np.lib.format.read_magic(fh)
+                read_header = np.lib.format.read_array_header_1_0 if major == 1 else np.lib.format.read_array_header_2_0
+                shape, _fortran, dtype = read_header(fh, max_header_size=10_000)
+            if dtype.hasobject:
+                raise ParameterError(f"{path}: {info.filename} holds Python objects; a result holds numbers only")
+            total += int(np.prod(shape, dtype=object)) * dtype.itemsize
+    return total
+
+
+def load_result(path, *, max_bytes=None):
     """Read a file written by :meth:`Result.save` (parsed as data, never executed).
+
+    The sizes the arrays declare are checked before anything is read: a
+    small file that would expand to more than ``max_bytes`` (default: the
+    smaller of 8 GB and half the free memory) is refused.
 
     Raises
     ------
@@ -149,6 +182,16 @@ def load_result(path):
     if not path.exists():
         raise FileNotFoundError(path)
     try:
+        declared = _declared_bytes(path)
+        if max_bytes is None:
+            from .simulate import _available_memory
+
+            free = _available_memory()
+            max_bytes = min(MAX_LOAD_BYTES, 0.5 * free) if free else MAX_LOAD_BYTES
+        if declared > max_bytes:
+            raise ParameterError(f"{path}: its arrays declare {declared / 1e9:.3g} GB, more than the "
+                                 f"{max_bytes / 1e9:.3g} GB limit; pass load_result(..., max_bytes=...) if the "
+                                 "file is yours and that memory is free")
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
             t, y = data["t"].copy(), data["y"].copy()

@@ -19,6 +19,8 @@ Two engines run a segment (both with scipy's error control):
 """
 
 import math
+import numbers
+import os
 import sys
 import time as _time
 from dataclasses import dataclass
@@ -36,6 +38,11 @@ COMPILED_METHODS = ("RK45", "DOP853")
 DIVERGED = 1e10
 #: with a wall-time limit, a compiled chunk also stops after this many step attempts to look at the clock
 CHUNK_STEPS = 200_000
+#: most memory the samples of one run may take (also at most half the free memory)
+MAX_SAMPLE_BYTES = 16e9
+#: loosest tolerances that still control the error of a rotor response (larger ones are refused)
+MAX_RTOL = 0.1
+MAX_ATOL = 1e-2
 #: methods that use the analytic Jacobian generated from the symbolic equations
 IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
 ENGINES = ("auto", "compiled", "scipy")
@@ -342,8 +349,12 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     checked_after = None
     if isinstance(bound, str) and bound == "auto":
         bound, checked_after = None, _auto_bound(system)
-    if bound is not None and not (isinstance(bound, (int, float)) and bound > 0):
-        raise ParameterError(f"bound={bound!r} must be > 0 (m), 'auto' or None")
+    if bound is not None:
+        if isinstance(bound, (bool, str)) or not isinstance(bound, numbers.Real) or not math.isfinite(bound) \
+                or not bound > 0:
+            raise ParameterError(f"bound={bound!r} must be a finite length > 0 (m), 'auto' or None")
+        bound = float(bound)  # numpy scalars (np.float32(1e-3)) included
+    _check_start(system, t0, y)
     if method not in IMPLICIT_METHODS and getattr(system, "has_jacobian", False):
         _warn_if_stiff(system, t0, t1, y, sample_rate)
     options = {"method": method, "rtol": rtol, "atol": atol, "max_step": max_step}
@@ -363,6 +374,9 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         stats["segments"] += 1
         out_t.append(seg.t)
         out_y.append(seg.y)
+        if seg.success and seg.y.size and not (np.all(np.isfinite(seg.y)) and np.abs(seg.y).max() <= DIVERGED):
+            seg.success = False  # dense output between accepted steps past the divergence limit: no result
+            seg.message = f"a sample is non-finite or past the divergence limit |y| > {DIVERGED:g}"
         if not seg.success:
             partial = _result(system, out_t, out_y, stats, options, engine, start_wall, False, seg.message)
             raise SimulationError(_failure_message(system, seg, a, b), partial=partial, time=seg.t_reached)
@@ -415,6 +429,34 @@ def _number(value, name, expected, *, positive=True, allow_inf=False):
     return v
 
 
+def _available_memory():
+    """Bytes of memory free now (Linux/macOS sysconf), or None if unknown."""
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def sample_memory(n_states, duration, sample_rate):
+    """Bytes the samples of a run take at their peak: (n_states + 1) x n_samples float64, twice
+    (the per-segment pieces and the joined array exist together for a moment)."""
+    n_samples = math.floor(duration * sample_rate) + 2
+    return 2 * 8 * (n_states + 1) * n_samples
+
+
+def _check_memory(system, duration, sample_rate):
+    """Refuse a run whose samples cannot fit in memory, before allocating anything."""
+    need = sample_memory(system.n_states, duration, sample_rate)
+    free = _available_memory()
+    limit = min(MAX_SAMPLE_BYTES, 0.5 * free) if free else MAX_SAMPLE_BYTES
+    if need > limit:
+        fitting = sample_rate * limit / need
+        raise ParameterError(
+            f"sample_rate={sample_rate:g} Hz over {duration:g} s of {system.n_states} states needs about "
+            f"{need / 1e9:.3g} GB for the samples (limit {limit / 1e9:.3g} GB: half the free memory, at most "
+            f"{MAX_SAMPLE_BYTES / 1e9:g} GB); lower sample_rate to {fitting:.3g} Hz or less, or simulate a shorter span")
+
+
 def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_limit, progress):
     """Every run setting checked before anything runs: ParameterError naming the argument."""
     try:
@@ -429,7 +471,11 @@ def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_lim
     if (t1 - t0) * sample_rate > 1e9:
         raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives more than 1e9 samples; "
                              "lower the sample rate or the span")
+    _check_memory(system, t1 - t0, sample_rate)
     rtol = _number(rtol, "rtol", "a relative tolerance > 0 (e.g. 1e-6)")
+    if rtol > MAX_RTOL:
+        raise ParameterError(f"rtol={rtol!r} cannot give an answer: a relative error above {MAX_RTOL:g} controls "
+                             "nothing; use e.g. rtol=1e-6 (check a result with check_convergence=True)")
     try:
         atol_arr = np.asarray(atol, dtype=float)
     except (TypeError, ValueError):
@@ -437,12 +483,36 @@ def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_lim
     if atol_arr.ndim > 1 or (atol_arr.ndim == 1 and atol_arr.shape != (system.n_states,)) or \
             not np.all(np.isfinite(atol_arr)) or not np.all(atol_arr > 0):
         raise ParameterError(f"atol={atol!r}: expected a tolerance > 0, or {system.n_states} of them (one per state)")
+    if np.any(atol_arr > MAX_ATOL):
+        raise ParameterError(f"atol={atol!r} cannot give an answer: an absolute error above {MAX_ATOL:g} (SI: "
+                             "1 cm, 0.01 rad) is larger than the responses rotorkit computes; use e.g. atol=1e-9")
     max_step = _number(max_step, "max_step", "a step > 0 in s (inf: unbounded)", allow_inf=True)
     if time_limit is not None:
         time_limit = _number(time_limit, "time_limit", "a wall time > 0 in s, or None", allow_inf=True)
     if progress is not None and progress is not True and progress is not False and not callable(progress):
         raise ParameterError(f"progress={progress!r}: expected None, True or a function progress(fraction, t)")
     return t0, t1, sample_rate, rtol, atol, max_step, time_limit
+
+
+def _check_start(system, t0, y):
+    """The derivative at the start state must be finite (a subnormal mass gives inf, then LinAlgError)."""
+    with np.errstate(all="ignore"):
+        try:
+            dydt = np.asarray(system.within(t0, t0 + 1.0).rhs(t0, y), dtype=float)
+            ok = bool(np.all(np.isfinite(dydt)))
+        except (np.linalg.LinAlgError, ZeroDivisionError, OverflowError, FloatingPointError):
+            ok = False
+    if not ok:
+        _raise_non_finite_start(system)
+
+
+def _raise_non_finite_start(system):
+    """ParameterError: the equations are not finite at the start (naming masses too small to invert)."""
+    masses = {k: v for k, v in system.parameters.items() if k.endswith(("_mass", "_inertia")) and abs(v) < 1e-100}
+    hint = f" ({', '.join(f'{k} = {v:g}' for k, v in masses.items())})" if masses else ""
+    raise ParameterError(
+        f"{system.name}: the equations give a non-finite acceleration or Jacobian at the start state{hint}: a mass "
+        "or inertia too small (below about 1e-100 kg) or a parameter too large; check the model's values")
 
 
 def _warn_if_stiff(system, t0, t1, y, sample_rate):

@@ -76,7 +76,8 @@ class System:
             raise ParameterError(
                 f"{self.name}: the parameters {', '.join(culprits)} = "
                 f"{', '.join(f'{self._values[n]:g}' for n in culprits)} give non-finite derived values "
-                "(a length or mass too close to zero?)"
+                "(a length or mass too close to zero, or a value too large: a speed or stiffness beyond "
+                "about 1e150 overflows its square)"
             )
         self.prepared_parameters = prepared
         self._plist = prepared.tolist()

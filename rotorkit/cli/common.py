@@ -178,8 +178,10 @@ def scene_module(args):
 def load_preset(args):
     """(preset module or :class:`FileScene`, model, overrides) for ``args.preset`` with ``args.set`` applied."""
     module = scene_module(args)
+    from ..presets import build_preset
+
     overrides = parse_overrides(args, {**module.DEFAULTS, **getattr(module, "SWITCHES", {})})
-    return module, module.build(**overrides), overrides
+    return module, build_preset(module, overrides), overrides
 
 
 def parse_overrides(args, known):

@@ -1,0 +1,111 @@
+"""Resource bounds, tolerances that cannot give an answer, and clear errors for odd inputs."""
+
+import io
+import zipfile
+
+import numpy as np
+import pytest
+
+import rotorkit as rk
+import importlib
+
+simulate_module = importlib.import_module("rotorkit.simulate")
+from rotorkit.errors import ParameterError
+
+
+def jeffcott(mass=1.0, speed=50.0):
+    return rk.Model([rk.Rotor(name="R", stations=(1,), speed=speed),
+                     rk.Disk(station=1, mass=mass, radius=0.1, eccentricity=1e-4),
+                     rk.ElasticSupport(station=1, stiffness=1e4, damping=2.0)])
+
+
+@pytest.fixture(scope="module")
+def system():
+    return jeffcott().compile(backend="python")
+
+
+@pytest.mark.parametrize("options, match", [
+    (dict(rtol=10.0), r"rtol=10\.0 cannot give an answer"),
+    (dict(rtol=0.5), r"rtol=0\.5 cannot give an answer"),
+    (dict(atol=1e300), r"atol=1e\+300 cannot give an answer"),
+    (dict(atol=np.full(4, 0.1)), r"cannot give an answer"),
+])
+def test_tolerances_that_cannot_give_an_answer_are_refused(system, options, match):
+    with pytest.raises(ParameterError, match=match):
+        rk.simulate(system, (0.0, 0.01), **options)
+
+
+def test_loosest_accepted_tolerances_still_run(system):
+    result = rk.simulate(system, (0.0, 0.01), rtol=simulate_module.MAX_RTOL, atol=simulate_module.MAX_ATOL)
+    assert result.stats["success"] and np.abs(result.y).max() < simulate_module.DIVERGED
+
+
+def test_memory_is_estimated_before_allocating(system, monkeypatch):
+    n = system.n_states
+    need = simulate_module.sample_memory(n, 10.0, 1e7)
+    assert need == 2 * 8 * (n + 1) * (10**8 + 2)  # (states + time) x samples x float64, twice
+    monkeypatch.setattr(simulate_module, "_available_memory", lambda: 2 * need - 1)  # half of it is < need
+    with pytest.raises(ParameterError, match=r"needs about 8 GB .*lower sample_rate to [\d.e+]+ Hz"):
+        rk.simulate(system, (0.0, 10.0), sample_rate=1e7)
+
+
+def test_the_preset_sample_rate_from_the_issue_is_refused_with_the_estimate():
+    system = rk.preset("al31f").compile(backend="python")
+    with pytest.raises(ParameterError, match=r"32 states needs about 5\d\d GB"):
+        rk.simulate(system, (0.0, 6.0), sample_rate=1.6e8)
+
+
+def _npz_declaring(shape, tmp_path):
+    """A tiny .npz whose y.npy header declares ``shape`` (float64) but holds a few bytes."""
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": shape})
+    path = tmp_path / "bomb.npz"
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
+        archive.writestr("y.npy", header.getvalue() + b"\0" * 64)
+        archive.writestr("t.npy", header.getvalue() + b"\0" * 64)
+    return path
+
+
+def test_load_result_checks_declared_sizes_first(tmp_path):
+    path = _npz_declaring((10**6, 10**6), tmp_path)  # 8 TB declared in a file of a few hundred bytes
+    assert path.stat().st_size < 2000
+    with pytest.raises(ParameterError, match=r"declare 1\.6e\+04 GB, more than"):
+        rk.load_result(path)
+
+
+def test_load_result_max_bytes(tmp_path, system):
+    result = rk.simulate(system, (0.0, 0.01), sample_rate=1000.0)
+    path = result.save(tmp_path / "r.npz")
+    assert rk.load_result(path).y.shape == result.y.shape
+    with pytest.raises(ParameterError, match="more than"):
+        rk.load_result(path, max_bytes=100)
+
+
+def test_bound_accepts_numpy_scalars(system):
+    result = rk.simulate(system, (0.0, 0.01), bound=np.float32(1e-3))
+    assert result.stats["success"]
+    for bad in (True, float("nan"), -1.0, "big"):
+        with pytest.raises(ParameterError, match="bound="):
+            rk.simulate(system, (0.0, 0.01), bound=bad)
+
+
+def test_result_indexed_by_number_says_how(system):
+    result = rk.simulate(system, (0.0, 0.01))
+    with pytest.raises(TypeError, match=r"index a result by signal name.*result\.y"):
+        result[0]
+
+
+def test_subnormal_mass_is_a_parameter_error():
+    system = jeffcott(mass=1e-320).compile(backend="python")
+    with pytest.raises(ParameterError, match=r"disk1_mass = 9\.99989e-321.*too small"):
+        rk.simulate(system, (0.0, 0.01))
+
+
+def test_huge_speed_is_not_blamed_on_a_small_length():
+    with pytest.raises(ParameterError, match=r"R_speed.*value too large"):
+        jeffcott(speed=1e300).compile(backend="python")
+
+
+def test_preset_error_names_the_override():
+    with pytest.raises(ParameterError, match=r"override rub_stiffness=-1 is refused: RubStator\.contact_stiffness"):
+        rk.preset("al31f", rub_stiffness=-1)
