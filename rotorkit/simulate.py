@@ -155,45 +155,48 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
             ys.append(dense()(t_eval[k:stop]).reshape(len(y), -1))
             k = stop
 
-    while solver.status == "running":
-        t_old = solver.t
-        step_message = solver.step()
-        if solver.status == "failed":
-            message = step_message
-            break
-        if not np.all(np.isfinite(solver.y)) or np.abs(solver.y).max() > DIVERGED:
-            message = f"non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) after a step"
-            break
-        if events:
-            g_new = segment.switch_values(solver.t, solver.y)
-            crossed = np.flatnonzero(np.sign(g_old) * np.sign(g_new) < 0)
-            if crossed.size:
-                dense = solver.dense_output()
-                switch = lambda tt, i: segment.switch_values(tt, dense(tt))[i]  # noqa: E731
-                # only crossings the step's own interpolant brackets (g is ~0 right after a restart)
-                bracketed = [i for i in crossed if np.sign(switch(t_old, i)) * np.sign(switch(solver.t, i)) < 0]
-                if bracketed:
-                    t_event = min(brentq(switch, t_old, solver.t, args=(i,), xtol=1e-14,
-                                         rtol=4 * np.finfo(float).eps) for i in bracketed)
-                    take_samples(lambda: dense, t_event)
-                    y_event = dense(t_event)
-                    for key in ("nfev", "njev", "nlu"):
-                        counts[key] += getattr(solver, key)
-                    counts["events"] += 1
-                    solver = solver_class(fun, t_event, y_event, b, **opts)
-                    g_old = segment.switch_values(t_event, y_event)
-                    g_old[crossed] = g_new[crossed]  # the crossings that stopped us are behind
-                    continue
-            g_old = g_new
-        take_samples(solver.dense_output, solver.t)
-        escaped = _escaped(system, solver.y[:, None], bound)
-        if escaped:
-            message = escaped
-            break
-        if deadline is not None and _time.perf_counter() > deadline:
-            message = "wall-time limit reached"
-            break
-    ok = solver.status == "finished" and not (message.startswith("run-away"))
+    try:
+        while solver.status == "running":
+            t_old = solver.t
+            step_message = solver.step()
+            if solver.status == "failed":
+                message = step_message
+                break
+            if not np.all(np.isfinite(solver.y)) or np.abs(solver.y).max() > DIVERGED:
+                message = f"non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) after a step"
+                break
+            if events:
+                g_new = segment.switch_values(solver.t, solver.y)
+                crossed = np.flatnonzero(np.sign(g_old) * np.sign(g_new) < 0)
+                if crossed.size:
+                    dense = solver.dense_output()
+                    switch = lambda tt, i: segment.switch_values(tt, dense(tt))[i]  # noqa: E731
+                    # only crossings the step's own interpolant brackets (g is ~0 right after a restart)
+                    bracketed = [i for i in crossed if np.sign(switch(t_old, i)) * np.sign(switch(solver.t, i)) < 0]
+                    if bracketed:
+                        t_event = min(brentq(switch, t_old, solver.t, args=(i,), xtol=1e-14,
+                                             rtol=4 * np.finfo(float).eps) for i in bracketed)
+                        take_samples(lambda: dense, t_event)
+                        y_event = dense(t_event)
+                        for key in ("nfev", "njev", "nlu"):
+                            counts[key] += getattr(solver, key)
+                        counts["events"] += 1
+                        solver = solver_class(fun, t_event, y_event, b, **opts)
+                        g_old = segment.switch_values(t_event, y_event)
+                        g_old[crossed] = g_new[crossed]  # the crossings that stopped us are behind
+                        continue
+                g_old = g_new
+            take_samples(solver.dense_output, solver.t)
+            escaped = _escaped(system, solver.y[:, None], bound)
+            if escaped:
+                message = escaped
+                break
+            if deadline is not None and _time.perf_counter() > deadline:
+                message = "wall-time limit reached"
+                break
+    except KeyboardInterrupt:  # Ctrl-C: stop here, keep the samples so far
+        message = f"interrupted (Ctrl-C) at t = {solver.t:.6g} s"
+    ok = solver.status == "finished" and not message.startswith(("run-away", "interrupted"))
     for key in ("nfev", "njev", "nlu"):
         counts[key] += getattr(solver, key)
     t_out = np.concatenate(ts) if ts else np.empty(0)
@@ -226,7 +229,13 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
             end = b
         mask = (t_eval > start) & (t_eval <= end) if ts or start > a else (t_eval >= start) & (t_eval <= end)
         budget = {"max_steps": CHUNK_STEPS} if deadline is not None else {}
-        sol = integrate(system.core, start, end, y, p, t_eval[mask], **options, **budget)
+        try:
+            sol = integrate(system.core, start, end, y, p, t_eval[mask], **options, **budget)
+        except KeyboardInterrupt:  # Ctrl-C between compiled chunks: keep the samples so far
+            t_done = np.concatenate(ts) if ts else np.empty(0)
+            y_done = np.concatenate(ys, axis=1) if ys else np.empty((len(y), 0))
+            return _Segment(t=t_done, y=y_done, y_end=y, t_reached=start, nfev=nfev, success=False,
+                            message=f"interrupted (Ctrl-C) at t = {start:.6g} s")
         n = sol.n_samples_done
         ts.append(sol.t[:n])
         ys.append(sol.y[:, :n])
@@ -550,6 +559,8 @@ def _failure_message(system, seg, a, b):
             big = np.argsort(-np.abs(y_last))[:3]
             lines.append("largest states at the last sample: "
                          + ", ".join(f"{system.state_names[i]} = {y_last[i]:.3g}" for i in big))
+    if seg.message.startswith("interrupted"):
+        return "\n".join(lines + ["The samples up to the interruption are in err.partial."])
     lines.append("Likely causes: a run-away response (e.g. dry-friction whirl at high friction), contact "
                  "stiffness too high for an explicit method, or too loose a tolerance. Try a tighter rtol, "
                  "method='Radau' for very stiff contact, or check the parameters.")

@@ -38,3 +38,6 @@ def main(argv=None):
     except RotorkitError as err:
         print(f"rotorkit: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("rotorkit: interrupted", file=sys.stderr)
+        return 130

@@ -1,6 +1,7 @@
 """``rotorkit run``: simulate a scene and write plots and signals."""
 
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -25,10 +26,12 @@ def register(sub):
 
 
 def main(args):
+    from ..files import check_output_folder
     from ..simulate import simulate
 
     start = time.perf_counter()
-    module, model, _ = load_preset(args)
+    module, model, _ = load_preset(args)  # reads the scene (a model file names args.preset); derives nothing
+    out = check_output_folder(args.out or f"rotorkit-out/{args.preset}")  # before any derivation or run
     outputs = getattr(module, "OUTPUTS", {})
     t_end = args.t_end if args.t_end is not None else outputs.get("t_end", 1.0)
     system = model.compile(backend=args.backend)
@@ -49,23 +52,43 @@ def main(args):
             result = simulate(system, (0.0, t_end), **options)
     except SimulationError as err:
         if err.partial is not None and err.partial.t.size:
-            import sys
-
-            out = Path(args.out or f"rotorkit-out/{args.preset}")
-            path = err.partial.save(out / "signals-partial.npz")
+            path = _keep(err.partial, out, "signals-partial.npz")
             print(f"partial result written to {path}", file=sys.stderr)
         raise
     stats = result.stats
     print(f"simulated 0-{t_end:g} s in {stats['wall_time']:.2f} s: {stats['nfev']} RHS evaluations, "
           f"{stats['engine']} engine, method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
-    out = Path(args.out or f"rotorkit-out/{args.preset}")
-    for p in write_outputs(result, outputs, out, measurement):
+    from ..files import write_folder
+
+    try:
+        written = write_folder(out, lambda folder: write_outputs(result, outputs, folder, measurement))
+    except OSError as exc:  # late failure (disk full, folder removed): the data is kept
+        path = _keep(result, None, "signals.npz")
+        print(f"rotorkit: error: {exc}\nthe signals are kept in {path}", file=sys.stderr)
+        return 1
+    for p in written:
         print(f"wrote {p}")
     return 0
 
 
+def _keep(result, out, name):
+    """Save ``result`` into ``out``, or (if that fails) into a new temporary folder; the path written."""
+    import tempfile
+
+    if out is not None:
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+            return result.save(out / name)
+        except OSError:
+            pass
+    return result.save(Path(tempfile.mkdtemp(prefix="rotorkit-rescue-")) / name)
+
+
 def write_outputs(result, outputs, out, measurement=None):
-    """Write a run's signals, its preset's standard figures (and sensor records) and a summary into ``out``."""
+    """Write a run's signals, its preset's standard figures (and sensor records) and a summary into the folder ``out``.
+
+    ``main`` calls it through :func:`rotorkit.files.write_folder`, so the files land together.
+    """
     from ..files import atomic_write_text
     from ..plotting.basic import plot_orbit, plot_signals
 
