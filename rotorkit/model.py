@@ -118,15 +118,19 @@ class Model:
         return tuple(s for s, axis in self.coordinates if axis == "thx")
 
     def _check_labels(self):
+        import unicodedata
+
         seen = {}
         for e in self.elements:
             label = e.label()
-            if label in seen:
+            key = unicodedata.normalize("NFKC", str(label))  # Python identifiers are NFKC-normalised: "ℛ" is "R"
+            if key in seen:
+                same = "" if key == label else f" (the same identifier {key!r} after Unicode normalisation)"
                 raise TopologyError(
-                    f"Model: two elements are labelled {label!r} ({seen[label]!r} and {e!r}); "
+                    f"Model: two elements are labelled {label!r}{same} ({seen[key]!r} and {e!r}); "
                     "give one of them a distinct name=..."
                 )
-            seen[label] = e
+            seen[key] = e
 
     def _map_stations(self):
         if not self.rotors:

@@ -109,3 +109,17 @@ def test_huge_speed_is_not_blamed_on_a_small_length():
 def test_preset_error_names_the_override():
     with pytest.raises(ParameterError, match=r"override rub_stiffness=-1 is refused: RubStator\.contact_stiffness"):
         rk.preset("al31f", rub_stiffness=-1)
+
+
+def test_names_equal_after_unicode_normalisation_are_refused():
+    from rotorkit.errors import TopologyError
+
+    def two_rotors(second):
+        return [rk.Rotor(name="R", stations=(1,), speed=50.0), rk.Rotor(name=second, stations=(2,), speed=5.0),
+                rk.Disk(station=1, mass=1.0, radius=0.1), rk.Disk(station=2, mass=1.0, radius=0.1),
+                rk.ElasticSupport(station=1, stiffness=1e4), rk.ElasticSupport(station=2, stiffness=1e4)]
+
+    assert "\u211b".isidentifier() and "\u211b" != "R"  # script capital R: another string, the same identifier
+    with pytest.raises(TopologyError, match=r"the same identifier 'R' after Unicode normalisation"):
+        rk.Model(two_rotors("\u211b"))
+    assert len(rk.Model(two_rotors("S")).elements) == 6
