@@ -530,7 +530,10 @@ def _warn_if_stiff(system, t0, t1, y, sample_rate):
 
     from .analysis.stiffness import explicit_step_warning
 
-    message = explicit_step_warning(system, t0, t1, y, sample_rate)
+    try:
+        message = explicit_step_warning(system, t0, t1, y, sample_rate)
+    except (np.linalg.LinAlgError, ValueError):  # a non-finite Jacobian (a subnormal mass, say)
+        _raise_non_finite_start(system)
     if message:
         warnings.warn(message, RuntimeWarning, stacklevel=3)
 
