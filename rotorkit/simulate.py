@@ -151,8 +151,9 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
         nonlocal k
         stop = np.searchsorted(t_eval, t_upto, side="right")
         if stop > k:
-            ts.append(t_eval[k:stop])
-            ys.append(dense()(t_eval[k:stop]).reshape(len(y), -1))
+            values = dense()(t_eval[k:stop]).reshape(len(y), -1)  # before any append: an interrupt here
+            ts.append(t_eval[k:stop])                             # leaves ts and ys the same length
+            ys.append(values)
             k = stop
 
     try:
@@ -196,6 +197,7 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
                 break
     except KeyboardInterrupt:  # Ctrl-C: stop here, keep the samples so far
         message = f"interrupted (Ctrl-C) at t = {solver.t:.6g} s"
+        del ts[len(ys):]  # an interrupt between the two appends of take_samples
     ok = solver.status == "finished" and not message.startswith(("run-away", "interrupted"))
     for key in ("nfev", "njev", "nlu"):
         counts[key] += getattr(solver, key)
