@@ -1167,13 +1167,30 @@ def test_cli_run_returns_0_or_2(setting):
 
 
 
-def test_set_value_power_tower_returns_quickly():
+def test_set_value_power_tower_is_refused_without_evaluating():
+    """``x=9**9**9`` must be refused by the grammar, never computed (9**387420489 would run for hours).
+
+    The child's work is bounded, not its wall time: a CPU-time limit (RLIMIT_CPU,
+    insensitive to how loaded the machine is) far above the ~1 s of CPU that
+    importing rotorkit and parsing take kills a child that starts evaluating the
+    tower, and the child must report the named error it got.
+    """
     import subprocess
     import sys
 
-    code = "from rotorkit.cli import parse_assignment\ntry:\n    parse_assignment('x=9**9**9')\nexcept Exception:\n    pass"
-    subprocess.run([sys.executable, "-c", code], timeout=3, check=False)  # TimeoutExpired kills the child
-
+    pytest.importorskip("resource")  # POSIX
+    cpu_seconds = 60
+    code = (f"import resource\nresource.setrlimit(resource.RLIMIT_CPU, ({cpu_seconds}, {cpu_seconds}))\n"
+            "from rotorkit.cli import parse_assignment\n"
+            "from rotorkit.errors import ParameterError, UnitError\n"
+            "try:\n    parse_assignment('x=9**9**9')\n"
+            "except (ParameterError, UnitError) as exc:\n    print('refused', type(exc).__name__)\n"
+            "else:\n    print('accepted')\n")
+    # the wall-clock timeout is only a backstop far beyond the CPU bound, not a speed target
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60 * cpu_seconds, check=False)
+    assert proc.returncode == 0, f"child killed or failed (exit {proc.returncode}): {proc.stderr[-500:]}"
+    assert proc.stdout.split()[0] == "refused", proc.stdout
 
 
 def test_cli_huge_integer_exits_2():

@@ -425,14 +425,26 @@ def _derive(model):
 
 
 def _latex_names(model, symbols):
+    """Symbol -> LaTeX name; element labels and station/axis names are escaped text.
+
+    Labels are identifiers such as ``bearing4_7``: inside ``\\mathrm{}`` a bare
+    ``_`` would be a subscript (``bearing4`` with a subscript 7), so every
+    character LaTeX treats specially is escaped.
+    """
+    special = {"_": r"\_", "#": r"\#", "%": r"\%", "&": r"\&", "$": r"\$", "{": r"\{", "}": r"\}"}
+
+    def word(text):
+        return "".join(special.get(ch, ch) for ch in str(text))
+
     names = {}
     bases = {"alpha": r"\alpha", "thx": r"\theta_{x}", "thy": r"\theta_{y}"}
     for (station, axis), (n, q) in zip(model.coordinates, symbols.coordinates.items()):
-        base = bases.get(axis, axis)
-        names[q] = f"{base}_{{{station}}}"
-        names[symbols.speeds[n]] = rf"\dot{{{base}}}_{{{station}}}"
+        base = bases.get(axis, axis if len(axis) == 1 else rf"\mathrm{{{word(axis)}}}")
+        names[q] = f"{base}_{{{word(station)}}}"
+        names[symbols.speeds[n]] = rf"\dot{{{base}}}_{{{word(station)}}}"
     for e in model.elements:
+        label = word(e.label())
         for f in e.parameters():
-            base = e._latex_names.get(f, f.replace("_", r"\_"))
-            names[symbols.parameters[f"{e.label()}_{f}"]] = f"{base}^{{\\mathrm{{{e.label()}}}}}"
+            base = e._latex_names.get(f) or (f if len(f) == 1 else rf"\mathrm{{{word(f)}}}")
+            names[symbols.parameters[f"{e.label()}_{f}"]] = f"{base}^{{\\mathrm{{{label}}}}}"
     return names
