@@ -7,11 +7,14 @@ from pathlib import Path
 __all__ = ["atomic_write_bytes", "atomic_write_text"]
 
 
-def atomic_write_bytes(path, data, *, mode=None):
+def atomic_write_bytes(path, data, *, mode=None, durable=True):
     """Write ``data`` to ``path`` through a temporary file in the same folder and a rename.
 
     ``mode`` (e.g. ``0o600``) sets the file's permissions; by default they
-    follow the umask like any new file.
+    follow the umask like any new file. ``durable=False`` skips the ``fsync``
+    before the rename: the file is still whole or absent after the process is
+    killed, but after a power cut it may be empty (for files whose reader
+    checks them and recomputes a damaged one, such as sweep points).
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -25,7 +28,8 @@ def atomic_write_bytes(path, data, *, mode=None):
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()
-            os.fsync(fh.fileno())
+            if durable:
+                os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

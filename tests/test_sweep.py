@@ -331,3 +331,41 @@ def test_an_unexpected_error_in_a_point_names_the_point(tmp_path, monkeypatch):
     monkeypatch.setattr(rotorkit.sweep.run, "run_point", broken)
     with pytest.raises(RotorkitError, match=r"sweep point 0 \(rub_stiffness = 1\) raised RuntimeError: a bug.*resume"):
         run_sweep(build_jeffcott, "rub_stiffness", [1.0], out_dir=tmp_path, window=WINDOW, workers=1)
+
+
+# ---------------------------------------------------------------------------
+# The reductions of a point against independent computations
+# ---------------------------------------------------------------------------
+
+
+def test_a_point_stores_the_spectra_and_peak_of_a_direct_run(tmp_path):
+    """What the worker stores (one-pass spectra, cheap peak radius) equals Result.spectrum and hypot of a plain run."""
+    import rotorkit as rk
+    from rotorkit.sweep.point import _order_amplitude
+
+    ds = run_sweep(build_jeffcott, "rub_stiffness", [3e4], out_dir=tmp_path, window=WINDOW, workers=1,
+                   signals=["x1", "y1"], orders=["1"])
+    meta, frequency, amplitude = _point_arrays(tmp_path, 0)
+    result = rk.simulate(build_jeffcott(rub_stiffness=3e4).compile(), (0.0, 0.5),
+                         bound=10 * CLEARANCE)
+    for row, name in zip(amplitude, ["x1", "y1"]):
+        direct = result.spectrum(name, WINDOW, 5.0)
+        np.testing.assert_allclose(frequency, direct.frequency, rtol=1e-15)
+        np.testing.assert_allclose(row, direct.amplitude, rtol=1e-12, atol=1e-12 * direct.amplitude.max())
+        stored = float(ds["order_amplitude"].sel(signal=name, order="1").values.item())
+        assert stored == pytest.approx(_order_amplitude(direct, SPIN), rel=1e-12)
+    peak = float(np.max(np.hypot(result["x1"], result["y1"])))
+    assert meta["max_displacement"] == pytest.approx(peak, rel=1e-12)
+
+
+@pytest.mark.parametrize("n, n_fft", [(7, 7), (501, 501), (1000, 4096), (16001, 16001)])
+@pytest.mark.parametrize("taper", ["hann", "hamming", "boxcar"])
+def test_taper_response_closed_form_against_the_direct_sum(n, n_fft, taper):
+    """The tone table's response (Dirichlet kernels for Hann) against sum_k w_k exp(-2 pi i d k / n_fft)."""
+    from rotorkit.analysis.signals import _taper_weights
+    from rotorkit.sweep.point import taper_response
+
+    delta = np.linspace(0.0, 1.0, 41)
+    _, w = _taper_weights(taper, n)
+    direct = np.abs(np.exp(-2j * np.pi * np.outer(delta, np.arange(n)) / n_fft) @ w) / w.sum()
+    np.testing.assert_allclose(taper_response(taper, n, n_fft, delta), direct, rtol=0, atol=1e-12)

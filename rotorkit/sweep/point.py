@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import ParameterError, SimulationError
 
-__all__ = ["run_point", "parse_order", "rotor_speeds", "RUNAWAY_FACTOR"]
+__all__ = ["run_point", "parse_order", "rotor_speeds", "spectra", "RUNAWAY_FACTOR"]
 
 #: default runaway limit of a rub station (the disk in a stator): this many times its clearance
 RUNAWAY_FACTOR = 10.0
@@ -89,6 +89,20 @@ def _radial(result, station):
     return np.hypot(result[f"x{station}"], result[f"y{station}"])
 
 
+def _peak_squared_radii(result, stations):
+    """Station -> largest ``x**2 + y**2`` over the run (a cheap pass: no radius array per station), or None when a
+    state is not finite (the caller then takes the NaN-aware path)."""
+    y = result.y
+    if not math.isfinite(np.einsum("ij->", y)):  # one pass over all states: also the finiteness check of the run
+        return None
+    names = result.state_names
+    out = {}
+    for st in stations:
+        x, z = y[names.index(f"x{st}")], y[names.index(f"y{st}")]
+        out[st] = float(np.max(x * x + z * z))
+    return out
+
+
 def _runaway_limits(model, limit):
     if limit is not None:
         return [(s, limit) for s in model.stations] if math.isfinite(limit) else []
@@ -98,9 +112,15 @@ def _runaway_limits(model, limit):
             if isinstance(e, RubStator) and e.clearance > 0]
 
 
-def _first_runaway(result, limits):
+def _first_runaway(result, limits, peaks=None):
+    """(sample, station, peak radius, limit) of the earliest passing of a runaway limit, or None.
+
+    ``peaks`` (from :func:`_peak_squared_radii`) skips the stations that never pass their limit.
+    """
     first = None
     for station, limit in limits:
+        if peaks is not None and peaks[station] <= limit * limit:
+            continue
         r = np.nan_to_num(_radial(result, station), nan=0.0)
         over = np.flatnonzero(r > limit)
         if over.size and (first is None or over[0] < first[0]):
@@ -109,14 +129,96 @@ def _first_runaway(result, limits):
 
 
 @functools.lru_cache(maxsize=8)
-def _tone_table(taper, n_samples, n_fft):
-    """(offset in bins, normalised taper response, ratio of the two top bins) on a fine grid, once per shape."""
+def _highpass_sos(cutoff, sample_rate, order=4):
+    """The Butterworth sections of :func:`rotorkit.analysis.signals.highpass`, designed once per sweep."""
+    from scipy.signal import butter
+
+    return butter(order, cutoff, btype="highpass", fs=sample_rate, output="sos")
+
+
+@functools.lru_cache(maxsize=8)
+def _hann(n_samples):
+    from ..analysis.signals import _taper_weights
+
+    weights = _taper_weights("hann", n_samples)[1]
+    weights.setflags(write=False)
+    return weights
+
+
+def spectra(result, names, window, highpass_hz):
+    """Amplitude spectra of several signals over ``window``: the numbers of :meth:`Result.spectrum
+    <rotorkit.result.Result.spectrum>` (Hann taper, zero-phase 4th-order Butterworth high-pass of the whole
+    run, rad/s), computed in one pass for all signals, with the filter and the taper made once per sweep.
+
+    Returns
+    -------
+    list of Spectrum
+        One per name, all on the same frequency grid.
+    """
+    from ..analysis.signals import Spectrum, _hz_to, _rfft_amplitude, _select_window, _time_step
+
+    t = result.t
+    dt = _time_step(t)
+    x = np.vstack([result[name] for name in names])
+    if highpass_hz is not None:
+        from scipy.signal import sosfiltfilt
+
+        if highpass_hz >= 0.5 / dt:
+            raise ParameterError(f"highpass_hz={highpass_hz!r} is at or above the Nyquist frequency "
+                                 f"{0.5 / dt:.6g} Hz of the samples: expected 0 < highpass_hz < Nyquist")
+        sample_rate = 1.0 / dt
+        padlen = min(t.size - 1, int(math.ceil(3.0 / (highpass_hz * dt))))
+        x = sosfiltfilt(_highpass_sos(float(highpass_hz), sample_rate), x, axis=-1, padlen=padlen)
+    keep = _select_window(t, t, dt, window)  # the window's sample times (checks the window)
+    first = int(np.searchsorted(t, keep[0]))
+    segments = x[:, first:first + keep.size]
+    n = keep.size
+    amplitude = _rfft_amplitude(segments, _hann(n), n)
+    frequency = _hz_to(np.fft.rfftfreq(n, dt), "rad/s")
+    frequency.setflags(write=False)
+    amplitude.setflags(write=False)
+    return [Spectrum(frequency, row, "rad/s", "hann", n, n) for row in amplitude]
+
+
+def _dirichlet(theta, n):
+    """``sum_{k<n} exp(-i theta k)`` in closed form (``n`` at ``theta = 0``)."""
+    theta = np.asarray(theta, dtype=float)
+    half = 0.5 * theta
+    small = np.abs(np.sin(half)) < 1e-300
+    ratio = np.where(small, float(n), np.sin(n * half) / np.where(small, 1.0, np.sin(half)))
+    return np.exp(-1j * half * (n - 1)) * ratio
+
+
+def taper_response(taper, n_samples, n_fft, delta):
+    """``|sum_k w_k exp(-2 pi i delta k / n_fft)| / sum_k w_k``: the taper's response to a tone ``delta`` bins
+    off a bin centre (``delta``: array).
+
+    The periodic Hann taper ``w_k = 1/2 - 1/2 cos(2 pi k / n)`` is a sum of three
+    complex exponentials, so its response is three Dirichlet kernels (closed
+    form, a few operations per ``delta``); any other taper is summed directly.
+    """
+    delta = np.asarray(delta, dtype=float)
+    theta = 2.0 * math.pi * delta / n_fft
+    if taper == "hann":
+        shift = 2.0 * math.pi / n_samples
+        total = (0.5 * _dirichlet(theta, n_samples)
+                 - 0.25 * (_dirichlet(theta - shift, n_samples) + _dirichlet(theta + shift, n_samples)))
+        return np.abs(total) / (0.5 * n_samples)
     from ..analysis.signals import _taper_weights
 
     _, weights = _taper_weights(taper, n_samples)
+    k = np.arange(weights.size)
+    out = np.empty(delta.size)
+    for i, th in enumerate(theta.ravel()):  # one row at a time: no (len(delta), n) matrix
+        out[i] = abs(np.dot(weights, np.exp(-1j * th * k)))
+    return out.reshape(delta.shape) / weights.sum()
+
+
+@functools.lru_cache(maxsize=8)
+def _tone_table(taper, n_samples, n_fft):
+    """(offset in bins, normalised taper response, ratio of the two top bins) on a fine grid, once per shape."""
     delta = np.linspace(0.0, 1.0, 201)
-    phase = np.exp(-2.0j * math.pi * np.outer(delta, np.arange(weights.size)) / n_fft)
-    response = np.abs(phase @ weights) / weights.sum()
+    response = taper_response(taper, n_samples, n_fft, delta)
     half = delta <= 0.5
     ratio = response[::-1][half] / response[half]  # R(1 - d) / R(d)
     return delta[half], response[half], ratio
@@ -207,15 +309,19 @@ def run_point(task):
         if "run-away" in str(err).splitlines()[0]:
             status = "runaway"
     sampled = result is not None and result.t.size > 0
-    max_disp, limit = None, bound
+    max_disp, limit, peaks = None, bound, None
     if sampled:
+        peaks = _peak_squared_radii(result, model.stations)
+    if peaks is not None:  # every state finite
+        max_disp = math.sqrt(max(peaks.values())) if peaks else None
+    elif sampled:
         radial = np.vstack([_radial(result, st) for st in model.stations])
         finite = radial[np.isfinite(radial)]
         max_disp = float(finite.max()) if finite.size else None
-        if status == "ok" and not np.all(np.isfinite(result.y)):
+        if status == "ok" and not np.all(np.isfinite(result.y)):  # (not a finite sum that overflowed)
             bad = int(np.argmax(~np.all(np.isfinite(result.y), axis=0)))
             status, message, when = "failed", f"non-finite states from t = {result.t[bad]:.6g} s", float(result.t[bad])
-    runaway = _first_runaway(result, limits) if sampled else None
+    runaway = _first_runaway(result, limits, peaks) if sampled else None
     if runaway is not None:
         at, station, peak, limit = runaway
         how = f" before the integration failed ({message.splitlines()[0]})" if status == "failed" else ""
@@ -233,8 +339,7 @@ def run_point(task):
     if status == "ok":
         rows = []
         freqs = [order_frequency(parse_order(o, list(speeds)), speeds) for o in orders]
-        for i, name in enumerate(signals):
-            spectrum = result.spectrum(name, tuple(s["window"]), s["highpass_hz"])
+        for i, spectrum in enumerate(spectra(result, signals, tuple(s["window"]), s["highpass_hz"])):
             frequency = spectrum.frequency
             rows.append(spectrum.amplitude)
             order_amp[i] = [_order_amplitude(spectrum, f) for f in freqs]

@@ -71,7 +71,9 @@ def write_point(out_dir, fingerprint_, result):
              **{k: np.asarray(result["arrays"][k], dtype=float) for k in _ARRAYS})
     path = point_path(out_dir, result["index"])
     path.parent.mkdir(parents=True, exist_ok=True)
-    atomic_write_bytes(path, buf.getvalue())
+    # no fsync per point (it cost more than the rest of storing): read_point recomputes a point whose file a power
+    # cut left empty or truncated, and a killed process leaves each file whole or absent (rename)
+    atomic_write_bytes(path, buf.getvalue(), durable=False)
 
 
 def read_point(out_dir, index, fingerprint_, point, shapes):
