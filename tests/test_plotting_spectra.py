@@ -218,3 +218,50 @@ def test_speed_orders():
         speed_orders(-1.0)
     with pytest.raises(ParameterError, match="ratios contains"):
         speed_orders(1500.0, ratios=("half",))
+
+
+# ---------------------------------------------------------------------------
+# Default labels: quantity and unit on every amplitude axis
+# ---------------------------------------------------------------------------
+
+
+def _colorbar_label(ax):
+    (cbar_ax,) = [a for a in ax.figure.axes if a is not ax]
+    return cbar_ax.get_ylabel()
+
+
+@pytest.mark.parametrize("signal, scale, expected", [
+    ("x2", 1.0, "x2 amplitude (m)"), ("x2", 1e6, "x2 amplitude (µm)"), ("alpha2-alpha5", 1e3, "alpha2-alpha5 "
+                                                                          "amplitude (mrad)"),
+    ("x1_dot", 1.0, "x1_dot amplitude (m/s)"), ("y3", 4.0, "y3 amplitude (0.25 m)"),
+    (None, 1.0, "amplitude ([signal unit])"), (None, 1e6, "amplitude (µ[signal unit])"),
+])
+def test_default_amplitude_labels_name_quantity_and_unit(chirp, signal, scale, expected):
+    spectrum = amplitude_spectrum(np.arange(0.0, 1.0, 1e-3), np.sin(2 * np.pi * 50 * np.arange(0.0, 1.0, 1e-3)))
+    ax = plot_spectrum(spectrum, signal=signal, scale=scale)
+    assert ax.get_ylabel() == expected
+    assert plot_waterfall(chirp, signal=signal, scale=scale).get_zlabel() == expected
+    assert _colorbar_label(plot_spectrogram(chirp, signal=signal, scale=scale)) == expected
+    if signal is not None:
+        assert signal in ax.get_title() and "spectrum" in ax.get_title()
+    else:
+        assert ax.get_title() == ""
+
+
+def test_an_explicit_amplitude_label_wins(chirp):
+    assert plot_spectrogram(chirp, signal="x2", amplitude_label="x2 (µm)").figure.axes[1].get_ylabel() == "x2 (µm)"
+
+
+def test_cascade_label_scales_its_unit():
+    ax = plot_cascade(synthetic_cascade(), "x2", scale=1e6)
+    assert ax.get_zlabel() == "x2 amplitude (µm)"
+
+
+def test_label_helpers_doctests():
+    import doctest
+
+    from rotorkit.plotting import basic, spectra
+
+    for module in (basic, spectra):
+        failures, tried = doctest.testmod(module, verbose=False)
+        assert tried >= 1 and failures == 0

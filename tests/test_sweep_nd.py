@@ -134,7 +134,7 @@ def test_maps_and_cascade_of_a_grid(grid_sweep):
     assert ax.get_xlabel() == "speed (rad/s)" and ax.get_ylabel() == "eccentricity (m)"
     assert len(ax.collections) == 1
     ax = plot_status_map(ds)
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["ok"]
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["ok (4)"]  # with its count
     ax = plot_bifurcation(ds.sel(eccentricity=1e-5), "x1")
     assert ax.get_xlabel() == "speed (rad/s)" and ax.get_ylabel().endswith("(m)")
     cascade = Cascade.from_dataset(ds.sel(eccentricity=3e-5))

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-__all__ = ["plot_orbit", "plot_signals", "new_axes", "signal_unit", "LENGTH_UNITS"]
+__all__ = ["plot_orbit", "plot_signals", "new_axes", "signal_unit", "scaled_unit", "LENGTH_UNITS"]
 
 #: output length units -> factor from metres
 LENGTH_UNITS = {"m": 1.0, "mm": 1e3, "um": 1e6}
@@ -91,6 +91,23 @@ def signal_unit(name):
     return f"{unit}/s" if speed else unit
 
 
+#: unit prefixes of the usual display scales
+_PREFIXES = {1e3: "m", 1e6: "µ", 1e9: "n"}
+
+
+def scaled_unit(unit, scale=1.0):
+    """The unit of ``values * scale`` for values in ``unit``: ``("m", 1e6) -> "µm"``, ``("rad", 2.0) -> "0.5 rad"``.
+
+    >>> scaled_unit("m", 1e6), scaled_unit("rad/s", 1e3), scaled_unit("m", 4.0)
+    ('µm', 'mrad/s', '0.25 m')
+    """
+    if scale == 1.0:
+        return unit
+    if scale in _PREFIXES:
+        return _PREFIXES[scale] + unit
+    return f"{1.0 / scale:.3g} {unit}"
+
+
 def plot_signals(result, names, ax=None, *, scale=1.0, unit_label="", highpass=None, **line_kwargs):
     """Time histories of named signals (``"x2"``, ``"alpha2-alpha5"``).
 
@@ -121,12 +138,13 @@ def plot_signals(result, names, ax=None, *, scale=1.0, unit_label="", highpass=N
             x = hp(result.t, x, highpass)
         ax.plot(result.t, x * scale, lw=0.5, label=name, **line_kwargs)
     units = sorted({signal_unit(n) for n in names})
-    if not unit_label:  # SI, named from the signals themselves
-        unit_label = units[0] if len(units) == 1 and scale == 1.0 else ""
+    if not unit_label:  # SI (scaled), named from the signals themselves
+        unit_label = scaled_unit(units[0], scale) if len(units) == 1 else ""
     quantity = {"m": "displacement", "rad": "torsional angle", "m/s": "velocity", "rad/s": "angular velocity"}
     what = ", ".join(sorted({quantity.get(u, "signal") for u in units}))
     ax.set_xlabel("time t (s)")
-    ax.set_ylabel(f"{what} {', '.join(names)}" + (f" ({unit_label})" if unit_label else f" (x{scale:g} SI)"))
+    shown = unit_label or ", ".join(f"{n}: {scaled_unit(signal_unit(n), scale)}" for n in names)
+    ax.set_ylabel(f"{what} {', '.join(names)} ({shown})")
     window = _maneuver_window(result)
     if window is not None and result.t.size and window[0] < result.t[-1]:
         ax.axvspan(window[0], min(window[1], result.t[-1]), color="0.9", zorder=0, label="manoeuvre")

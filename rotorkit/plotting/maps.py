@@ -19,11 +19,20 @@ STATUS_COLORS = {"ok": "#4daf4a", "failed": "#e41a1c", "runaway": "#ff7f00", "mi
 
 
 def _axes(ax):
-    if ax is None:
-        import matplotlib.pyplot as plt
+    from .basic import new_axes
 
-        _, ax = plt.subplots(figsize=(6.4, 4.8))
-    return ax
+    return new_axes(ax, figsize=(6.4, 4.8))
+
+
+def _scales(ax, logx, logy):
+    """Log axes where asked; linear ones get tick labels that carry their own exponent (no bare 1e7 offset)."""
+    from matplotlib.ticker import FuncFormatter
+
+    for log, axis, set_scale in ((logx, ax.xaxis, ax.set_xscale), (logy, ax.yaxis, ax.set_yscale)):
+        if log:
+            set_scale("log")
+        else:
+            axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.4g}"))
 
 
 def axis_label(ds, name):
@@ -99,16 +108,13 @@ def plot_order_map(ds, order, signal=None, *, x=None, y=None, ax=None, log=False
         norm = LogNorm(vmin=max(table.max() * 1e-4, table[table > 0].min()), vmax=table.max())
     mesh = ax.pcolormesh(_edges(ds[x].values, logx), _edges(ds[y].values, logy), table, shading="flat", norm=norm,
                          cmap=cmap)
-    if logx:
-        ax.set_xscale("log")
-    if logy:
-        ax.set_yscale("log")
+    _scales(ax, logx, logy)
     ax.set_xlabel(axis_label(ds, x))
     ax.set_ylabel(axis_label(ds, y))
     unit = dict(zip([str(s) for s in ds.signal.values], [str(u) for u in ds.signal_units.values]))[signal]
-    ax.set_title(f"{signal}: amplitude of order {order}")
+    ax.set_title(f"{signal}: peak amplitude at order {order} (blank: no spectrum)", fontsize=9)
     if colorbar:
-        ax.figure.colorbar(mesh, ax=ax, label=f"amplitude ({unit})")
+        ax.figure.colorbar(mesh, ax=ax, label=f"{signal} amplitude at order {order} ({unit})")
     return ax
 
 
@@ -124,15 +130,15 @@ def plot_status_map(ds, *, x=None, y=None, ax=None, logx=False, logy=False):
     ax = _axes(ax)
     ax.pcolormesh(_edges(ds[x].values, logx), _edges(ds[y].values, logy), codes, shading="flat",
                   cmap=ListedColormap(list(STATUS_COLORS.values())), vmin=-0.5, vmax=len(kinds) - 0.5)
-    if logx:
-        ax.set_xscale("log")
-    if logy:
-        ax.set_yscale("log")
+    _scales(ax, logx, logy)
     ax.set_xlabel(axis_label(ds, x))
     ax.set_ylabel(axis_label(ds, y))
     present = [k for k in kinds if np.any(status == k)]
-    ax.legend(handles=[Patch(color=STATUS_COLORS[k], label=k) for k in present], loc="best", fontsize="small")
-    ax.set_title("status of the points")
+    counts = {k: int(np.sum(status == k)) for k in present}
+    # the whole axes is data: the legend goes beside it
+    ax.legend(handles=[Patch(color=STATUS_COLORS[k], label=f"{k} ({counts[k]})") for k in present],
+              loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", borderaxespad=0.0)
+    ax.set_title(f"status of the {status.size} points: ok, failed or ran away", fontsize=9)
     return ax
 
 
@@ -177,11 +183,17 @@ def plot_bifurcation(ds, signal=None, *, parameter=None, ax=None, scale=1.0, uni
         if mask.any():
             ax.plot(values[mask], np.zeros(mask.sum()), linestyle="none", marker="x",
                     color={"failed": "C3", "runaway": "C1"}[kind], label=kind)
-    if logx:
-        ax.set_xscale("log")
+    _scales(ax, logx, False)
     ax.set_xlabel(axis_label(ds, parameter))
     su = dict(zip(signals, [str(u) for u in ds.poincare_units.values]))
-    ax.set_ylabel(f"{signal} once per revolution ({unit or su.get(signal, '')})")
+    shown = unit or (su.get(signal, "") if scale == 1.0 else "")
+    if not shown:
+        from .basic import scaled_unit
+
+        shown = scaled_unit(su.get(signal, "") or "-", scale)
+    ax.set_ylabel(f"{signal} once per revolution ({shown})")
+    ax.set_title(f"bifurcation diagram: {samples.shape[1]} once-per-revolution samples of {signal} per point",
+                 fontsize=9)
     if (status == "failed").any() or (status == "runaway").any():
-        ax.legend(loc="best", fontsize="small")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize="small", borderaxespad=0.0)
     return ax

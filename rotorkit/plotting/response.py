@@ -57,7 +57,7 @@ def plot_unbalance_bode(response, coordinate, *, rotor=None, axes=None, units="r
     top.plot(x, response.amplitude(coordinate, rotor) * fl, "-", lw=1.3)
     if log:
         top.set_yscale("log")
-    top.set_ylabel(f"|{coordinate}| ({length_units})")
+    top.set_ylabel(f"amplitude |{coordinate}| ({length_units})")
     top.set_title(f"unbalance response of {coordinate}")
     bottom.plot(x, np.degrees(np.unwrap(response.phase(coordinate, rotor))), "-", lw=1.3)
     bottom.set_ylabel(f"phase of {coordinate} (deg)")
@@ -113,7 +113,7 @@ def plot_frf(frf, output, input, *, axes=None, units="rad/s"):
 
 
 def plot_static_deflection(static, ax=None, *, length_units="um"):
-    """Static deflection x and y of every station, with the bearing/support reactions annotated.
+    """Static deflection x and y of every station, with each support's largest reaction (N) annotated.
 
     Returns
     -------
@@ -129,10 +129,18 @@ def plot_static_deflection(static, ax=None, *, length_units="um"):
         ax.set_xticks(pos, list(stations))
     for axis, style in (("x", "-o"), ("y", "-s")):
         ax.plot(pos, [static.deflection[f"{axis}{s}"] * fl for s in stations], style, ms=4, label=axis)
+    where = {f"{axis}{s}": (p, axis) for p, s in zip(pos, stations) for axis in "xy"}
+    for label, forces in static.reactions.items():  # each support's largest force on the rotor, at its station
+        shown = [(abs(v), name, v) for name, v in forces.items() if name in where]
+        if shown:
+            _, name, value = max(shown)
+            p, axis = where[name]
+            ax.annotate(f"{label}\nF{axis} = {value:.3g} N", (p, static.deflection[name] * fl), fontsize=6,
+                        textcoords="offset points", xytext=(4, 6), color="0.3")
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.set_xlabel(label)
     ax.set_ylabel(f"static deflection ({length_units})")
-    ax.set_title("static deflection")
+    ax.set_title(f"static deflection along the rotor at t = {static.t:g} s", fontsize=9)
     ax.grid(True, lw=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     return ax

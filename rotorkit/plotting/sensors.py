@@ -33,7 +33,7 @@ def plot_probe_orbit(horizontal, vertical, ax=None, *, start=None, end=None, cle
     if clearance is not None:
         th = np.linspace(0, 2 * np.pi, 361)
         ax.plot(clearance * 1e6 * np.cos(th), clearance * 1e6 * np.sin(th), "k--", lw=0.8, label="clearance")
-        ax.legend(loc="upper right")
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(f"{horizontal.name} (µm)")
     ax.set_ylabel(f"{vertical.name} (µm)")
@@ -51,7 +51,7 @@ def plot_sensor_signals(signals, ax=None, *, highpass=None):
         ax.plot(s.t, s.values * factor, lw=0.5, label=f"{s.name} ({s.sample_rate:g} Hz)")
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"{', '.join(s.name for s in signals)} ({unit})")
-    ax.legend(loc="upper right")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)  # beside the data
     ax.set_title("sensor signals" + (f" (high-pass {highpass:g} Hz)" if highpass else ""))
     return ax
 
@@ -66,8 +66,10 @@ def plot_sensor_waterfall(signal, ax=None, *, highpass=2.0, segment=0.2, overlap
     unit, factor = DISPLAY.get(s.unit, (s.unit, 1.0))
     tf = stft(s.t, s.values, segment=segment, overlap=overlap)
     draw = plot_spectrogram if flat else plot_waterfall
-    ax = draw(tf, ax=ax, orders=orders, fmax=fmax, scale=factor, amplitude_label=f"{s.name} ({unit})")
-    ax.set_title(f"{s.name}" + (f" (high-pass {highpass:g} Hz)" if highpass else ""))
+    ax = draw(tf, ax=ax, orders=orders, fmax=fmax, scale=factor, amplitude_label=f"{s.name} amplitude ({unit})")
+    what = "spectrogram" if flat else "short-time spectra"
+    ax.set_title(f"{s.name}: {what}, {segment:g} s segments" + (f", high-pass {highpass:g} Hz" if highpass else ""),
+                 fontsize=9)
     return ax
 
 

@@ -27,7 +27,8 @@ import numpy as np
 from ..errors import ParameterError
 from .basic import new_axes
 
-__all__ = ["plot_waterfall", "plot_spectrogram", "plot_cascade", "plot_spectrum", "speed_orders"]
+__all__ = ["plot_waterfall", "plot_spectrogram", "plot_cascade", "plot_spectrum", "speed_orders",
+           "default_amplitude_label"]
 
 #: markers of the points of a cascade that have no spectrum
 _STATUS_MARKERS = {"failed": ("x", "C3"), "runaway": ("^", "m"), "missing": ("o", "0.5")}
@@ -174,6 +175,22 @@ def _frequency_label(units):
     return f"frequency ({units})"
 
 
+def default_amplitude_label(signal=None, scale=1.0):
+    """Default amplitude axis label: quantity and unit, with the unit the scale implies.
+
+    >>> default_amplitude_label("x2", 1e6)
+    'x2 amplitude (µm)'
+    >>> default_amplitude_label("alpha2-alpha5")
+    'alpha2-alpha5 amplitude (rad)'
+    >>> default_amplitude_label(None, 1e6)
+    'amplitude (µ[signal unit])'
+    """
+    from .basic import scaled_unit, signal_unit
+
+    shown = scaled_unit(signal_unit(signal) if signal else "[signal unit]", scale)
+    return f"{signal} amplitude ({shown})" if signal else f"amplitude ({shown})"
+
+
 def _limits(low, high):
     """(low, high), widened around ``low`` when the range is empty."""
     if np.isfinite(low) and np.isfinite(high) and high > low:
@@ -188,7 +205,7 @@ def _limits(low, high):
 # ---------------------------------------------------------------------------
 
 
-def plot_waterfall(tf, ax=None, *, orders=None, fmax=None, scale=1.0, amplitude_label="amplitude",
+def plot_waterfall(tf, ax=None, *, orders=None, fmax=None, scale=1.0, amplitude_label=None, signal=None,
                    color="C0", linewidth=0.6):
     """Time-frequency waterfall: spectra of short segments stacked along time, in 3-D.
 
@@ -206,8 +223,12 @@ def plot_waterfall(tf, ax=None, *, orders=None, fmax=None, scale=1.0, amplitude_
         Highest frequency shown (``tf.units``).
     scale : float
         Factor applied to the amplitudes (e.g. 1e6 for µm).
-    amplitude_label : str
-        Label of the amplitude axis, with its unit.
+    amplitude_label : str, optional
+        Label of the amplitude axis, with its unit; default from ``signal``
+        and ``scale`` (:func:`default_amplitude_label`: ``"x2 amplitude (µm)"``).
+    signal : str, optional
+        Name of the analysed signal (``"x2"``, ``"alpha2-alpha5"``): gives the
+        default label its quantity and unit (m, rad) and the figure a title.
     color, linewidth
         Of the spectra.
 
@@ -232,7 +253,9 @@ def plot_waterfall(tf, ax=None, *, orders=None, fmax=None, scale=1.0, amplitude_
     ax.set_zlim(0.0, top * 1.05 if top > 0 else 1.0)
     ax.set_xlabel(_frequency_label(units))
     ax.set_ylabel("t (s)")
-    ax.set_zlabel(amplitude_label)
+    ax.set_zlabel(amplitude_label or default_amplitude_label(signal, scale))
+    if signal:
+        ax.set_title(f"{signal}: short-time spectra", fontsize=9)
     return ax
 
 
@@ -245,8 +268,8 @@ def _draw_orders_3d(ax, orders, f0, f1, y0, y1):
         ax.legend(loc="upper left", bbox_to_anchor=(1.05, 1.0), fontsize=7, borderaxespad=0.0)
 
 
-def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0, amplitude_label="amplitude",
-                     colorbar=True):
+def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0, amplitude_label=None,
+                     signal=None, colorbar=True):
     """Time-frequency map: amplitude in colour over time (x) and frequency (y).
 
     Parameters
@@ -262,8 +285,12 @@ def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0
         Logarithmic colour scale (floor at 1e-4 of the largest amplitude).
     scale : float
         Factor applied to the amplitudes.
-    amplitude_label : str
-        Label of the colour bar, with its unit.
+    amplitude_label : str, optional
+        Label of the colour bar, with its unit; default from ``signal`` and
+        ``scale`` (:func:`default_amplitude_label`).
+    signal : str, optional
+        Name of the analysed signal: the default label's quantity and unit,
+        and the title.
     colorbar : bool
         Add a colour bar to the axes' figure.
 
@@ -288,9 +315,11 @@ def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0
             ax.text(0.99, freq, label, transform=ax.get_yaxis_transform(), ha="right", va="bottom", fontsize=7,
                     color="w")
     if colorbar:
-        ax.figure.colorbar(mesh, ax=ax, label=amplitude_label)
+        ax.figure.colorbar(mesh, ax=ax, label=amplitude_label or default_amplitude_label(signal, scale))
     ax.set_xlabel("t (s)")
     ax.set_ylabel(_frequency_label(units))
+    if signal:
+        ax.set_title(f"{signal}: spectrogram", fontsize=9)
     return ax
 
 
@@ -391,9 +420,7 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
     units = cascade.units
     scale = _check_scale(scale)
     if amplitude_label is None:
-        from .basic import signal_unit
-
-        amplitude_label = f"{signal} amplitude ({signal_unit(signal)}{'' if scale == 1.0 else f' x {scale:g}'})"
+        amplitude_label = default_amplitude_label(signal, scale)
     values = np.asarray(cascade.values, dtype=float)
     unit = _parameter_unit(cascade)
     shown_unit = f" ({unit})" if unit else (" (-)" if unit == "" else "")
@@ -507,7 +534,8 @@ def _peak_points(peaks, spectrum):
     return out
 
 
-def plot_spectrum(spectrum, ax=None, *, orders=None, peaks=None, fmax=None, scale=1.0, amplitude_label="amplitude"):
+def plot_spectrum(spectrum, ax=None, *, orders=None, peaks=None, fmax=None, scale=1.0, amplitude_label=None,
+                  signal=None):
     """An amplitude spectrum with order lines and marked peaks.
 
     Parameters
@@ -527,8 +555,12 @@ def plot_spectrum(spectrum, ax=None, *, orders=None, peaks=None, fmax=None, scal
         Highest frequency shown.
     scale : float
         Factor applied to the amplitudes.
-    amplitude_label : str
-        Label of the amplitude axis, with its unit.
+    amplitude_label : str, optional
+        Label of the amplitude axis, with its unit; default from ``signal``
+        and ``scale`` (:func:`default_amplitude_label`).
+    signal : str, optional
+        Name of the analysed signal: the default label's quantity and unit,
+        and the title.
 
     Returns
     -------
@@ -567,5 +599,7 @@ def plot_spectrum(spectrum, ax=None, *, orders=None, peaks=None, fmax=None, scal
                 ax.annotate(f"{x:.0f}", (x, y), textcoords="offset points", xytext=(3, 3), fontsize=7)
     ax.set_xlim(f0, f1)
     ax.set_xlabel(_frequency_label(units))
-    ax.set_ylabel(amplitude_label)
+    ax.set_ylabel(amplitude_label or default_amplitude_label(signal, scale))
+    if signal:
+        ax.set_title(f"{signal}: amplitude spectrum", fontsize=9)
     return ax
