@@ -95,7 +95,9 @@ class QuadraticForm:
     ``T = 1/2 u^T M u + u^T N q``, ``V = 1/2 q^T K q``, ``D = 1/2 u^T C u``
     with ``q`` the coordinates and ``u = q'`` their speeds. Lagrange's
     equations of these are ``M q'' + (N - N^T) q' + C q' + K q`` (``N`` holds
-    the gyroscopic terms, e.g. ``Omega I_p thx' thy``), so the derivation adds
+    the gyroscopic terms, e.g. ``Omega I_p thx' thy``; when ``N`` depends on
+    time, a changing spin speed, the equations also hold ``N' q``: the
+    ``I_p Omega'`` terms), so the derivation adds
     the matrices directly instead of differentiating; :meth:`kinetic` and
     friends give the same energies as expressions.
 

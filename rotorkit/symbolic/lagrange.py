@@ -302,7 +302,7 @@ class _Templates:
         return glob(mass, True), glob(force), glob(Ke, True), glob(Ce, True)
 
 
-def _add_quadratic(form, q_index, M, K, C, force, totals):
+def _add_quadratic(form, q_index, M, K, C, force, totals, t=None):
     """Add a :class:`~rotorkit.elements.base.QuadraticForm`'s matrices (and energies) in place."""
     idx = [q_index[q] for q in form.coordinates]
     m = len(idx)
@@ -312,10 +312,13 @@ def _add_quadratic(form, q_index, M, K, C, force, totals):
                 for b in range(m):
                     if A[a, b] != 0:
                         _add(target, (idx[a], idx[b]), A[a, b])
-    if form.gyroscopic is not None:  # d/dt(N q) - N^T q' = (N - N^T) q' moves to the right-hand side
+    if form.gyroscopic is not None:  # d/dt(N q) - N^T q' = N' q + (N - N^T) q' moves to the right-hand side
         N = form.gyroscopic
+        timed = t is not None and any(t in e.free_symbols for e in N if e != 0)
         for a in range(m):
             row = sp.Add(*[(N[a, b] - N[b, a]) * form.speeds[b] for b in range(m) if N[a, b] != 0 or N[b, a] != 0])
+            if timed:  # N(t): a changing spin speed (I_p Omega' terms)
+                row += sp.Add(*[sp.diff(N[a, b], t) * form.coordinates[b] for b in range(m) if N[a, b] != 0])
             if row != 0:
                 force[idx[a]] = force.get(idx[a], sp.S.Zero) - row
     for name, value in (("kinetic", form.kinetic()), ("potential", form.potential()),
@@ -386,7 +389,7 @@ def _derive(model):
         if terms.quadratic:  # finite elements: add the matrices, no differentiation
             force = dict(force)
             for form in terms.quadratic:
-                _add_quadratic(form, q_index, M, K, C, force, totals)
+                _add_quadratic(form, q_index, M, K, C, force, totals, t)
         for (i, j), mij in mass.items():
             _add(M, (i, j), mij)
             if i != j:
