@@ -42,7 +42,9 @@ def sink_model():
         rk.RubStator(station=2, clearance=1.34e-4, contact_stiffness=8e6, friction_coefficient=0.1),
         rk.Maneuver.barrel_roll(rate=np.pi, radius=3.0, start=0.2, end=0.4),
         rk.elements.LinearBearing.tabulated(station=2, speeds=[0.0, 1000.0], kxx=[1e6, 2e6], kyy=[1e6, 1.5e6],
-                                            kxy=[0.0, 1e5], cxx=[10.0, 20.0]),
+                                            kxy=[0.0, 1e5], cxx=[10.0, 20.0],
+                                            pedestal=rk.elements.Pedestal(mass=20.0, kxx=5e6, kyy=3e6, cyy=50.0)),
+        rk.elements.LinearBearing(station=4, kxx=1e5, kyy=1e5, ktxx=2e3, ktyy=3e3, ktxy=100.0, ctyy=0.5),
         rk.elements.LinearBearing(station=3, other_station="h", kxx=1e5, kyy=1e5, cxy=3.0, cyx=-3.0),
         rk.elements.BaseRotation(rate_y=0.5, center_x=-800.0, axial_positions={1: 0.1, 2: 0.4}),
     ], name="sink")

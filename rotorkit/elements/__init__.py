@@ -7,6 +7,7 @@ from .bearing import BallBearing
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, LumpedMass
+from .pedestal import Pedestal
 from .material import Material
 from .rotor import Rotor
 from .rub import RubStator
@@ -29,5 +30,6 @@ __all__ = [
     "Maneuver",
     "SpeedProfile",
     "LinearBearing",
+    "Pedestal",
     "BaseRotation",
 ]

@@ -21,14 +21,28 @@ outside the table (no linear extrapolation). The table entries are
 parameters ``<label>_speed<i>``, ``<label>_kxx<i>``, ...; a rotor whose speed
 follows a :class:`~rotorkit.elements.speed.SpeedProfile` sees the
 coefficients change along the run.
+
+Moment (tilt) coefficients ``ktxx, ktxy, ktyx, ktyy`` (N m/rad) and
+``ctxx, ctxy, ctyx, ctyy`` (N m s/rad) act on the tilts ``(thx, thy)`` the
+same way: the moment on the journal is ``M = -K_t theta - C_t theta'``
+(``theta = (thx, thy)``, relative to the housing station for an
+inter-shaft bearing, to the ground otherwise). They need tilt coordinates at
+the station (a beam element there); a bearing without them adds no tilt
+terms.
+
+With a :class:`~rotorkit.elements.pedestal.Pedestal` the housing is a
+support mass with its own springs to the ground: ``d`` is the journal
+displacement minus the pedestal's (``px<station>``, ``py<station>``).
 """
 
+import dataclasses
 from dataclasses import dataclass
 
 import sympy as sp
 
-from ..errors import ParameterError
+from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
+from .pedestal import PEDESTAL_AXES, Pedestal
 from .rotor import check_station
 from .speed import check_table, interpolate_table
 
@@ -36,13 +50,17 @@ __all__ = ["LinearBearing"]
 
 _STIFF = ("kxx", "kxy", "kyx", "kyy")
 _DAMP = ("cxx", "cxy", "cyx", "cyy")
-_DIRECT = ("kxx", "kyy", "cxx", "cyy")
-_COEFFS = _STIFF + _DAMP
+_TILT_STIFF = ("ktxx", "ktxy", "ktyx", "ktyy")
+_TILT_DAMP = ("ctxx", "ctxy", "ctyx", "ctyy")
+_TILT = _TILT_STIFF + _TILT_DAMP
+_DIRECT = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy")
+_COEFFS = _STIFF + _DAMP + _TILT
+_PEDESTAL = "pedestal_"
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
 class LinearBearing(Element):
-    """A linear bearing with 2x2 stiffness and damping, to ground or between two stations.
+    """A linear bearing with 2x2 stiffness and damping, to ground, to a pedestal or between two stations.
 
     Parameters
     ----------
@@ -50,12 +68,21 @@ class LinearBearing(Element):
         Journal station.
     other_station : int or str, optional
         Station of the housing for an inter-shaft bearing (another rotor);
-        None: the housing is the ground.
+        None: the housing is the ground (or the pedestal).
     kxx, kxy, kyx, kyy : float or pint.Quantity
         Stiffness coefficients (N/m). ``kxx`` and ``kyy`` are required and
         >= 0; a cross term left None adds no term.
     cxx, cxy, cyx, cyy : float or pint.Quantity
         Damping coefficients (N s/m); direct ones >= 0. None adds no term.
+    ktxx, ktxy, ktyx, ktyy : float or pint.Quantity, optional
+        Moment (tilt) stiffness coefficients (N m/rad) on ``(thx, thy)``;
+        direct ones >= 0. Need tilt coordinates at the station(s).
+    ctxx, ctxy, ctyx, ctyy : float or pint.Quantity, optional
+        Moment damping coefficients (N m s/rad).
+    pedestal : Pedestal, optional
+        The housing is a support mass on its own springs to the ground
+        (coordinates ``px<station>``, ``py<station>``); only with
+        ``other_station=None``.
 
     Examples
     --------
@@ -64,6 +91,9 @@ class LinearBearing(Element):
     >>> b = LinearBearing.tabulated(station=1, speeds=[0.0, 500.0], kxx=[1e6, 2e6], kyy=[1e6, 2e6])
     >>> sorted(b.parameters())[:3]
     ['kxx0', 'kxx1', 'kyy0']
+    >>> b = LinearBearing(station=1, kxx=1e8, kyy=1e8, pedestal=Pedestal(mass=40.0, kxx=5e7, kyy=2e7))
+    >>> sorted(b.parameters())
+    ['kxx', 'kyy', 'pedestal_kxx', 'pedestal_kyy', 'pedestal_mass']
     """
 
     station: int | str = None
@@ -76,24 +106,37 @@ class LinearBearing(Element):
     cxy: float | None = None
     cyx: float | None = None
     cyy: float | None = None
+    ktxx: float | None = None
+    ktxy: float | None = None
+    ktyx: float | None = None
+    ktyy: float | None = None
+    ctxx: float | None = None
+    ctxy: float | None = None
+    ctyx: float | None = None
+    ctyy: float | None = None
     speeds: tuple | None = None
+    pedestal: Pedestal | None = None
 
     _units = {
         "kxx": ("N/m", "nonnegative"), "kxy": ("N/m", None), "kyx": ("N/m", None), "kyy": ("N/m", "nonnegative"),
         "cxx": ("N*s/m", "nonnegative"), "cxy": ("N*s/m", None), "cyx": ("N*s/m", None),
         "cyy": ("N*s/m", "nonnegative"),
+        **{f: ("N*m/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_STIFF},
+        **{f: ("N*m*s/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_DAMP},
     }
-    _latex_names = {f: f"{f[0]}_{{{f[1:]}}}" for f in _COEFFS}
+    _latex_names = {**{f: f"{f[0]}_{{{f[1:]}}}" for f in _STIFF + _DAMP},
+                    **{f: rf"{f[0]}_{{\theta {f[2:]}}}" for f in _TILT}}
 
     @classmethod
-    def tabulated(cls, *, station, speeds, other_station=None, name=None, **coefficients):
+    def tabulated(cls, *, station, speeds, other_station=None, name=None, pedestal=None, **coefficients):
         """Coefficients tabulated against rotor speed: ``speeds`` (rad/s, increasing) and one list per coefficient.
 
         Piecewise-linear interpolation in the speed of the rotor of
         ``station``; below the first and above the last speed the end values
         hold.
         """
-        return cls(station=station, other_station=other_station, name=name, speeds=speeds, **coefficients)
+        return cls(station=station, other_station=other_station, name=name, speeds=speeds, pedestal=pedestal,
+                   **coefficients)
 
     def __post_init__(self):
         if self.speeds is None:
@@ -132,6 +175,13 @@ class LinearBearing(Element):
             for f in ("kxx", "kyy"):
                 if getattr(self, f) is None:
                     raise ParameterError(f"{who}: {f} is required (N/m, >= 0)")
+        if self.pedestal is not None:
+            if not isinstance(self.pedestal, Pedestal):
+                raise ParameterError(f"{who}: pedestal = {self.pedestal!r}: expected a Pedestal(mass=..., kxx=..., "
+                                     "kyy=...)")
+            if self.other_station is not None:
+                raise ParameterError(f"{who}: pedestal with other_station = {self.other_station!r}: an inter-shaft "
+                                     "bearing's housing is the other rotor; put the pedestal on a bearing to ground")
 
     def _check_direct(self):
         who = f"LinearBearing at station {self.station!r}"
@@ -149,12 +199,18 @@ class LinearBearing(Element):
     def _present(self):
         return [f for f in _COEFFS if getattr(self, f) is not None]
 
+    def _tilted(self):
+        return any(getattr(self, f) is not None for f in _TILT)
+
     def parameters(self):
         if self.speeds is None:
-            return Element.parameters(self)
-        out = {f"speed{i}": v for i, v in enumerate(self.speeds)}
-        for f in self._present():
-            out.update({f"{f}{i}": v for i, v in enumerate(getattr(self, f))})
+            out = Element.parameters(self)
+        else:
+            out = {f"speed{i}": v for i, v in enumerate(self.speeds)}
+            for f in self._present():
+                out.update({f"{f}{i}": v for i, v in enumerate(getattr(self, f))})
+        if self.pedestal is not None:
+            out.update({_PEDESTAL + f: v for f, v in self.pedestal.parameters().items()})
         return out
 
     def _split(self, field_name):
@@ -162,6 +218,8 @@ class LinearBearing(Element):
         return base, int(field_name[len(base):])
 
     def unit_of(self, field_name):
+        if field_name.startswith(_PEDESTAL):
+            return self.pedestal.unit_of(field_name[len(_PEDESTAL):])
         if self.speeds is None or field_name in self._units:
             return Element.unit_of(self, field_name)
         base, _ = self._split(field_name)
@@ -171,41 +229,86 @@ class LinearBearing(Element):
         return {f: self.unit_of(f) for f in self.parameters()}
 
     def parameter_sign(self, field_name):
+        if field_name.startswith(_PEDESTAL):
+            return Pedestal._units[field_name[len(_PEDESTAL):]][1]
         if self.speeds is None:
             return Element.parameter_sign(self, field_name)
         base, _ = self._split(field_name)
         return None if base == "speed" else self._units[base][1]
 
     def replace_parameters(self, **fields):
+        pedestal = self.pedestal
+        own = {k: v for k, v in fields.items() if not k.startswith(_PEDESTAL)}
+        mine = {k[len(_PEDESTAL):]: v for k, v in fields.items() if k.startswith(_PEDESTAL)}
+        if mine:
+            pedestal = pedestal.replace(**mine)
         if self.speeds is None:
-            return Element.replace_parameters(self, **fields)
+            return dataclasses.replace(self, pedestal=pedestal, **own)
         tables = {f: list(getattr(self, f)) for f in self._present()}
         tables["speed"] = list(self.speeds)
-        for name, value in fields.items():
+        for name, value in own.items():
             base, i = self._split(name)
             tables[base][i] = value
         speeds = tables.pop("speed")
         return LinearBearing(station=self.station, other_station=self.other_station, name=self.name,
-                             speeds=speeds, **tables)
+                             speeds=speeds, pedestal=pedestal, **tables)
 
     def structure(self):
         present = tuple(self._present())
         n = None if self.speeds is None else len(self.speeds)
+        pedestal = None if self.pedestal is None else self.pedestal.structure()
         return (type(self).__name__, self.label(), (("station", repr(self.station)),
                                                     ("other_station", repr(self.other_station)),
-                                                    ("coefficients", present), ("table", n)))
+                                                    ("coefficients", present), ("table", n), ("pedestal", pedestal)))
 
     # -- topology ---------------------------------------------------------
     def attached_stations(self):
         return (self.station,) if self.other_station is None else (self.station, self.other_station)
 
+    def coordinates(self):
+        return tuple((self.station, a) for a in PEDESTAL_AXES) if self.pedestal is not None else ()
+
+    def inertia(self):
+        return self.coordinates()
+
+    def requires(self):
+        if not self._tilted():
+            return ()
+        return tuple((s, a) for s in self.attached_stations() for a in ("thx", "thy"))
+
     def grounds(self):
-        return () if self.other_station is not None else ((self.station, "x"), (self.station, "y"))
+        if self.other_station is not None:
+            return ()
+        tilts = ((self.station, "thx"), (self.station, "thy")) if self._tilted() else ()
+        if self.pedestal is not None:
+            return tuple((self.station, a) for a in PEDESTAL_AXES) + tilts
+        return ((self.station, "x"), (self.station, "y")) + tilts
 
     def stiffness_links(self):
+        s = self.station
+        if self.pedestal is not None:
+            return (((s, "x"), (s, "px")), ((s, "y"), (s, "py")))
         if self.other_station is None:
             return ()
-        return (((self.station, "x"), (self.other_station, "x")), ((self.station, "y"), (self.other_station, "y")))
+        axes = ("x", "y") + (("thx", "thy") if self._tilted() else ())
+        return tuple(((s, a), (self.other_station, a)) for a in axes)
+
+    def check(self, model):
+        if self.pedestal is None:
+            return
+        for e in model.elements_at(self.station):
+            if e is not self and any(pair in e.coordinates() for pair in self.coordinates()):
+                raise TopologyError(
+                    f"LinearBearing {self.label()!r}: station {self.station!r} has a second pedestal "
+                    f"(from {type(e).__name__} {e.label()!r}); one pedestal per station: put both bearings on one "
+                    "pedestal station with other_station, or on different stations")
+
+    def rigid_body_mass(self, ctx):
+        if self.pedestal is None:
+            return {}
+        m = ctx.p[_PEDESTAL + "mass"]
+        px, py = ctx.coord(self.station, "px")[0], ctx.coord(self.station, "py")[0]
+        return {px: (m, sp.S.Zero), py: (sp.S.Zero, m)}
 
     def _default_label(self):
         other = "" if self.other_station is None else f"_{self.other_station}"
@@ -222,25 +325,48 @@ class LinearBearing(Element):
         return interpolate_table(ctx.speed(self.station), [ctx.p[f"speed{i}"] for i in range(n)],
                                  [ctx.p[f"{f}{i}"] for i in range(n)])
 
-    def contribute(self, ctx):
-        (xa, xad), (ya, yad) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
-        if self.other_station is None:
+    def _pair(self, ctx, axes, housing_axes, stiff, damp):
+        """(V, D, loads) of ``F = -K d - C d'`` on the journal's ``axes`` against the housing's."""
+        (xa, xad), (ya, yad) = ctx.coord(self.station, axes[0]), ctx.coord(self.station, axes[1])
+        housing = None
+        if housing_axes is not None:
+            station = self.station if self.other_station is None else self.other_station
+            housing = (ctx.coord(station, housing_axes[0]), ctx.coord(station, housing_axes[1]))
+        if housing is None:
             d, dd = (xa, ya), (xad, yad)
         else:
-            (xb, xbd), (yb, ybd) = ctx.coord(self.other_station, "x"), ctx.coord(self.other_station, "y")
+            (xb, xbd), (yb, ybd) = housing
             d, dd = (xa - xb, ya - yb), (xad - xbd, yad - ybd)
-        k = {f: self.coefficient(ctx, f) for f in _STIFF}
-        c = {f: self.coefficient(ctx, f) for f in _DAMP}
-        potential = (k["kxx"] * d[0] ** 2 + (k["kxy"] + k["kyx"]) * d[0] * d[1] + k["kyy"] * d[1] ** 2) / 2
-        dissipation = (c["cxx"] * dd[0] ** 2 + (c["cxy"] + c["cyx"]) * dd[0] * dd[1] + c["cyy"] * dd[1] ** 2) / 2
+        k = [self.coefficient(ctx, f) for f in stiff]
+        c = [self.coefficient(ctx, f) for f in damp]
+        potential = (k[0] * d[0] ** 2 + (k[1] + k[2]) * d[0] * d[1] + k[3] * d[1] ** 2) / 2
+        dissipation = (c[0] * dd[0] ** 2 + (c[1] + c[2]) * dd[0] * dd[1] + c[3] * dd[1] ** 2) / 2
         # skew (circulatory) parts: F_x = -(kxy - kyx)/2 dy, F_y = -(kyx - kxy)/2 dx (likewise damping)
-        ka, ca = (k["kxy"] - k["kyx"]) / 2, (c["cxy"] - c["cyx"]) / 2
+        ka, ca = (k[1] - k[2]) / 2, (c[1] - c[2]) / 2
         fx = -ka * d[1] - ca * dd[1]
         fy = ka * d[0] + ca * dd[0]
         loads = {}
         if fx != 0 or fy != 0:
             loads = {xa: fx, ya: fy}
-            if self.other_station is not None:
+            if housing is not None:
                 loads[xb], loads[yb] = -fx, -fy
-        return Terms(potential=potential, dissipation=dissipation, loads=loads)
+        return potential, dissipation, loads
 
+    def contribute(self, ctx):
+        if self.pedestal is not None:
+            housing = PEDESTAL_AXES
+        else:
+            housing = None if self.other_station is None else ("x", "y")
+        potential, dissipation, loads = self._pair(ctx, ("x", "y"), housing, _STIFF, _DAMP)
+        kinetic = sp.S.Zero
+        if self._tilted():  # the pedestal translates only: moments act against the ground there
+            tilt_housing = None if self.other_station is None else ("thx", "thy")
+            v, d, q = self._pair(ctx, ("thx", "thy"), tilt_housing, _TILT_STIFF, _TILT_DAMP)
+            potential, dissipation = potential + v, dissipation + d
+            for key, value in q.items():
+                loads[key] = loads.get(key, sp.S.Zero) + value
+        if self.pedestal is not None:
+            p = {f[len(_PEDESTAL):]: s for f, s in ctx.p.items() if f.startswith(_PEDESTAL)}
+            t, v, d = self.pedestal.terms(p, ctx.coord(self.station, "px"), ctx.coord(self.station, "py"))
+            kinetic, potential, dissipation = t, potential + v, dissipation + d
+        return Terms(kinetic=kinetic, potential=potential, dissipation=dissipation, loads=loads)
