@@ -34,6 +34,7 @@ A steady level turn at 0.5 rad/s about a vertical axis 800 m to the left:
 """
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import Callable
 
 import sympy as sp
@@ -43,7 +44,7 @@ from ..units import to_si
 from .base import Element, Terms
 from .rotor import check_station
 
-__all__ = ["BaseRotation"]
+__all__ = ["BaseRotation", "base_frame", "point_mass_loads", "tilt_kinetic", "tilt_loads"]
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -140,22 +141,120 @@ class BaseRotation(Element):
             out.append(w)
         return tuple(out)
 
-    def contribute(self, ctx):
-        t = ctx.t
-        W = sp.Matrix(self.rates(t, ctx.p))
-        Wd = W.diff(t)
-        c = sp.Matrix([ctx.p[f"center_{a}"] for a in "xyz"])
+    def axial_position(self, station):
+        """Axial position ``z_s`` (m) of a station given in ``axial_positions``, or None."""
+        return dict(self.axial_positions).get(station)
+
+    def frame(self, ctx):
+        """The base motion as expressions: ``(W, W', c)`` (3x1 sympy matrices) and a ``z(station)`` function.
+
+        ``ctx`` may be bound to any element: the symbols are this element's
+        parameters.
+        """
+        p = {f: ctx.parameter(self, f) for f in self.parameters()}
+        W = sp.Matrix(self.rates(ctx.t, p))
+        c = sp.Matrix([p[f"center_{a}"] for a in "xyz"])
         z_of = dict(self.axial_positions)
+        return SimpleNamespace(W=W, Wd=W.diff(ctx.t), c=c, z=lambda s: sp.Float(z_of.get(s, 0.0)), positions=z_of)
+
+    def contribute(self, ctx):
+        frame = self.frame(ctx)
         loads = {}
         for station, mass in ctx.masses():
             (x, xd), (y, yd) = ctx.coord(station, "x"), ctx.coord(station, "y")
-            r = sp.Matrix([x, y, sp.Float(z_of.get(station, 0.0))]) - c
-            v = sp.Matrix([xd, yd, 0])
-            a = Wd.cross(r) + W.cross(W.cross(r)) + 2 * W.cross(v)
-            fx, fy = sp.expand(-mass * a[0]), sp.expand(-mass * a[1])
-            if fx != 0:
-                loads[x] = loads.get(x, 0) + fx
-            if fy != 0:
-                loads[y] = loads.get(y, 0) + fy
+            for q, f in point_mass_loads(mass, (x, y), (xd, yd), frame.z(station), frame).items():
+                loads[q] = loads.get(q, 0) + f
         return Terms(loads=loads)
 
+
+def base_frame(ctx):
+    """The model's :class:`BaseRotation` frame (see :meth:`BaseRotation.frame`), or None without one."""
+    for e in ctx.model.elements:
+        if isinstance(e, BaseRotation):
+            return e.frame(ctx)
+    return None
+
+
+def point_mass_loads(mass, q, u, z, frame):
+    """``{x: F_x, y: F_y}``: the Euler, centripetal and Coriolis loads on a point mass at ``(x, y, z)``."""
+    (x, y), (xd, yd) = q, u
+    r = sp.Matrix([x, y, z]) - frame.c
+    v = sp.Matrix([xd, yd, 0])
+    a = frame.Wd.cross(r) + frame.W.cross(frame.W.cross(r)) + 2 * frame.W.cross(v)
+    out = {}
+    fx, fy = sp.expand(-mass * a[0]), sp.expand(-mass * a[1])
+    if fx != 0:
+        out[x] = fx
+    if fy != 0:
+        out[y] = fy
+    return out
+
+
+def tilt_kinetic(Id, Ip, spin, tilts, rates, W):
+    """Kinetic energy a turning base adds to a spinning body with tilts, to second order in the tilts.
+
+    A body with diametral inertia ``Id`` and polar inertia ``Ip`` (kg m^2,
+    or per unit length) spins at ``spin`` relative to the base and tilts by
+    ``a = thx``, ``b = thy`` (rates ``a'``, ``b'``); the base turns at
+    ``W = (W_x, W_y, W_z)``. Its angular velocity is the base's plus the
+    relative one, and ``T = 1/2 [Id (w_1^2 + w_2^2) + Ip w_3^2]`` in the
+    tilted (Resal) frame; the part that ``W`` adds, to second order in
+    ``(a, b, a', b')`` and without the constant, is ::
+
+        Id (W_x a' + W_y b') + Id W_z (a b' - a' b) + Ip W_z a' b
+        + (Id W_z - Ip (spin + W_z)) (W_y a - W_x b) + (Id - Ip) W_x W_y a b
+        + ((Id - Ip)(W_z^2 - W_y^2) - Ip spin W_z) a^2 / 2
+        + ((Id - Ip)(W_z^2 - W_x^2) - Ip spin W_z) b^2 / 2
+
+    whose Lagrange equations hold the gyroscopic moment of the spin and the
+    base rate (``-Ip spin W_y`` on ``thx``, ``+Ip spin W_x`` on ``thy``), the
+    Euler moments ``-Id W'`` and the centrifugal terms of the base rotation.
+    """
+    (a, b), (ad, bd) = tilts, rates
+    Wx, Wy, Wz = W
+    return (Id * (Wx * ad + Wy * bd) + Id * Wz * (a * bd - ad * b) + Ip * Wz * ad * b
+            + (Id * Wz - Ip * (spin + Wz)) * (Wy * a - Wx * b) + (Id - Ip) * Wx * Wy * a * b
+            + ((Id - Ip) * (Wz**2 - Wy**2) - Ip * spin * Wz) * a**2 / 2
+            + ((Id - Ip) * (Wz**2 - Wx**2) - Ip * spin * Wz) * b**2 / 2)
+
+
+def tilt_loads(Id, Ip, spin, W, t, q, u, Va, Vb, Mr, R):
+    """Generalised loads of :func:`tilt_kinetic` over interpolated tilts, by matrices (no symbolic differentiation).
+
+    The tilts are ``thx(z) = N(z) Va q`` and ``thy(z) = N(z) Vb q`` with
+    the element's coordinates ``q`` (n x 1; speeds ``u``), ``Va``, ``Vb``
+    (m x n) picking the nodal tilts and ``N`` the m rotation shape functions;
+    ``Mr = int N^T N dz`` (m x m) and ``R = int N^T dz`` (m x 1). ``Id``,
+    ``Ip`` are per unit length. The energy is a sum of terms ``c(t) w1^T B w2``
+    and ``c(t) r^T w`` (``w`` = q or u), whose Lagrange loads are written out:
+    ``c (B + B^T) q`` for ``q q`` terms, ``c B^T u - c' B q - c B u`` for
+    ``u^T B q``, ``c r`` for ``r^T q`` and ``-c' r`` for ``r^T u``.
+
+    Returns
+    -------
+    sympy.Matrix
+        n x 1 loads on ``q``.
+    """
+    a, b, ad, bd = sp.symbols("_a _b _ad _bd", real=True)
+    fields = {a: ("q", Va), b: ("q", Vb), ad: ("u", Va), bd: ("u", Vb)}
+    energy = sp.Poly(tilt_kinetic(Id, Ip, spin, (a, b), (ad, bd), W), a, b, ad, bd)
+    Q = sp.zeros(len(q), 1)
+    for monomial, c in zip(energy.monoms(), energy.coeffs()):
+        gens = [g for g, power in zip((a, b, ad, bd), monomial) for _ in range(power)]
+        dc = sp.diff(c, t)
+        if len(gens) == 2:
+            (k1, V1), (k2, V2) = fields[gens[0]], fields[gens[1]]
+            if k1 == "q" and k2 == "u":
+                (k1, V1), (k2, V2) = (k2, V2), (k1, V1)
+            B = V1.T * Mr * V2
+            if k1 == "q":  # q^T B q
+                Q += c * (B + B.T) * q
+            elif k2 == "q":  # u^T B q
+                Q += c * B.T * u - c * B * u - (dc * B * q if dc != 0 else sp.zeros(len(q), 1))
+            else:
+                raise AssertionError("tilt_kinetic has no terms quadratic in the tilt rates")
+        elif len(gens) == 1:
+            kind, V = fields[gens[0]]
+            r = V.T * R
+            Q += c * r if kind == "q" else -dc * r
+    return Q

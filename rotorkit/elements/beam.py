@@ -31,6 +31,7 @@ import sympy as sp
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, QuadraticForm, Terms
+from .base_motion import BaseRotation, base_frame, tilt_loads
 from .material import Material
 from .rotor import check_station
 
@@ -49,7 +50,8 @@ def plane_template():
         ``"symbols"``: (l, phi); and 4x4 matrices over ``(w1, beta1, w2, beta2)``:
         ``"stiffness"`` (times EI), ``"translational_mass"`` (times rho A),
         ``"rotary_mass"`` (times rho I; also ``int N_beta^T N_beta dz``, the
-        gyroscopic integral per ``rho I_p``). Entries are rational in l and phi.
+        gyroscopic integral per ``rho I_p``); and ``"rotary_vector"``, 4x1,
+        ``int N_beta^T dz``. Entries are rational in l and phi.
     """
     z, l = sp.symbols("z l", positive=True)
     phi = sp.Symbol("phi", nonnegative=True)
@@ -76,7 +78,13 @@ def plane_template():
         "stiffness": stiffness,
         "translational_mass": integral(Nw.T * Nw),
         "rotary_mass": integral(Nb.T * Nb),
+        "rotary_vector": integral(Nb.T),
     }
+
+
+def _cross(v):
+    """The matrix of ``v x`` (3x3)."""
+    return sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
 
 
 def cowper_shear_coefficient(poisson_ratio, diameter_ratio):
@@ -248,6 +256,15 @@ class BeamSegment(Element):
         return tuple(links)
 
     def check(self, model):
+        for e in model.elements:
+            if isinstance(e, BaseRotation):
+                z0, z1 = e.axial_position(self.start), e.axial_position(self.end)
+                if z0 is not None and z1 is not None and not math.isclose(z1 - z0, self.length, rel_tol=1e-9,
+                                                                          abs_tol=1e-12):
+                    raise TopologyError(
+                        f"BeamSegment {self.label()!r}: BaseRotation.axial_positions put {self.start!r} at {z0:g} m "
+                        f"and {self.end!r} at {z1:g} m, {z1 - z0:g} m apart, but the segment is {self.length:g} m "
+                        "long; expected end = start + length (z increases from start to end)")
         ra, rb = model.rotor_of(self.start), model.rotor_of(self.end)
         if ra is not rb:
             raise TopologyError(
@@ -330,7 +347,71 @@ class BeamSegment(Element):
                 forms.append(QuadraticForm(coordinates=(qa, qb), speeds=(ua, ub),
                                            mass=sp.Matrix([[Jl / 3, Jl / 6], [Jl / 6, Jl / 3]]),
                                            stiffness=sp.Matrix([[GIp / l, -GIp / l], [-GIp / l, GIp / l]])))
-        return Terms(quadratic=tuple(forms))
+        frame = base_frame(ctx)
+        if frame is None:
+            return Terms(quadratic=tuple(forms))
+        return Terms(quadratic=tuple(forms), loads=self._base_rotation_loads(ctx, frame))
+
+    # -- a turning base (BaseRotation) -----------------------------------------
+    def node_positions(self, positions):
+        """Axial positions (m) of the nodes, from ``positions`` (station -> z) of the start or end station (else 0)."""
+        if self.start in positions:
+            z0 = positions[self.start]
+        elif self.end in positions:
+            z0 = positions[self.end] - self.length
+        else:
+            z0 = 0.0
+        return tuple(z0 + k * self.length / self.elements for k in range(self.elements + 1))
+
+    def _base_rotation_loads(self, ctx, frame):
+        """Loads of the turning base on the distributed mass and the spinning sections.
+
+        Translation: the loads ``-int rho A N_w^T (W' x r + W x (W x r) + 2 W x r')`` with
+        ``r = (x(z), y(z), z) - c``; every field in it (``x``, ``y``, ``z``, 1) is exactly
+        interpolated by the shape functions, so the integral is the translational mass matrix
+        times nodal vectors. Rotation: :func:`tilt_kinetic` per unit length (``rho I``,
+        ``rho I_p``) integrated over the element with the rotation shape functions
+        (:func:`tilt_loads`).
+        """
+        p = ctx.p
+        tpl = plane_template()
+        l_sym, phi_sym = tpl["symbols"]
+        rhoA, rhoI, EI, kGA, _, l = self._section(p)
+        phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
+        subs = {l_sym: l, phi_sym: phi}
+        Mt = rhoA * tpl["translational_mass"].xreplace(subs)
+        Mr = tpl["rotary_mass"].xreplace(subs)
+        R = tpl["rotary_vector"].xreplace(subs)
+        W, c = frame.W, frame.c
+        A = _cross(frame.Wd) + _cross(W) * _cross(W)
+        B = 2 * _cross(W)
+        Ac = A * c
+        S = sp.diag(1, -1, 1, -1)
+        Id = rhoI if self.rotary_inertia else sp.S.Zero
+        Ip = 2 * rhoI if self.gyroscopic else sp.S.Zero
+        spin = ctx.speed(self.start)
+        # on (x_a, thy_a, x_b, thy_b, y_a, thx_a, y_b, thx_b): thy = beta_x, thx = -beta_y = -S (y-plane)
+        Z4 = sp.zeros(4, 4)
+        Vb, Va = sp.Matrix(sp.BlockMatrix([[sp.eye(4), Z4]])), sp.Matrix(sp.BlockMatrix([[Z4, -S]]))
+        nodes, z = self.nodes(), self.node_positions(frame.positions)
+        loads = {}
+        for k, (na, nb) in enumerate(zip(nodes, nodes[1:])):
+            cx = [ctx.coord(na, "x"), ctx.coord(na, "thy"), ctx.coord(nb, "x"), ctx.coord(nb, "thy")]
+            cy = [ctx.coord(na, "y"), ctx.coord(na, "thx"), ctx.coord(nb, "y"), ctx.coord(nb, "thx")]
+            X, UX = sp.Matrix([q for q, _ in cx]), sp.Matrix([u for _, u in cx])
+            Y, UY = S * sp.Matrix([q for q, _ in cy]), S * sp.Matrix([u for _, u in cy])  # (w, beta) of the y-z plane
+            Z, ONE = sp.Matrix([z[k], 1, z[k + 1], 1]), sp.Matrix([1, 0, 1, 0])
+            ax = A[0, 0] * X + A[0, 1] * Y + A[0, 2] * Z - Ac[0] * ONE + B[0, 0] * UX + B[0, 1] * UY
+            ay = A[1, 0] * X + A[1, 1] * Y + A[1, 2] * Z - Ac[1] * ONE + B[1, 0] * UX + B[1, 1] * UY
+            Q = sp.Matrix.vstack(-Mt * ax, -S * (Mt * ay))
+            if Id != 0 or Ip != 0:
+                q8 = sp.Matrix([q for q, _ in cx + cy])
+                u8 = sp.Matrix([u for _, u in cx + cy])
+                Q += tilt_loads(Id, Ip, spin, W, ctx.t, q8, u8, Va, Vb, Mr, R)
+            for (q, _), f in zip(cx + cy, Q):
+                if f != 0:
+                    loads[q] = loads.get(q, sp.S.Zero) + f
+        return loads
 
     def rigid_body_mass(self, ctx):
         p = ctx.p

@@ -42,6 +42,7 @@ import sympy as sp
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
+from .base_motion import base_frame, point_mass_loads
 from .pedestal import PEDESTAL_AXES, Pedestal
 from .rotor import check_station
 from .speed import check_table, interpolate_table
@@ -369,4 +370,10 @@ class LinearBearing(Element):
             p = {f[len(_PEDESTAL):]: s for f, s in ctx.p.items() if f.startswith(_PEDESTAL)}
             t, v, d = self.pedestal.terms(p, ctx.coord(self.station, "px"), ctx.coord(self.station, "py"))
             kinetic, potential, dissipation = t, potential + v, dissipation + d
+            frame = base_frame(ctx)
+            if frame is not None:  # the pedestal mass in a turning base
+                (px, pxd), (py, pyd) = ctx.coord(self.station, "px"), ctx.coord(self.station, "py")
+                for key, value in point_mass_loads(p["mass"], (px, py), (pxd, pyd), frame.z(self.station),
+                                                   frame).items():
+                    loads[key] = loads.get(key, sp.S.Zero) + value
         return Terms(kinetic=kinetic, potential=potential, dissipation=dissipation, loads=loads)

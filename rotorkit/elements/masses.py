@@ -7,6 +7,7 @@ import sympy as sp
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
+from .base_motion import base_frame, tilt_kinetic
 from .rotor import check_station
 
 __all__ = ["Disk", "LumpedMass"]
@@ -45,7 +46,10 @@ class Disk(Element):
         Moment of inertia about a diameter through the centroid (kg m^2).
         Needs tilt coordinates at the station (a beam element there): adds
         ``1/2 I_d (thx'^2 + thy'^2)`` and the gyroscopic term
-        ``I_p phi' thx' thy`` (``phi' = Omega (+ alpha')``) to T.
+        ``I_p phi' thx' thy`` (``phi' = Omega (+ alpha')``) to T; in a
+        turning base (:class:`~rotorkit.elements.base_motion.BaseRotation`)
+        also the base's gyroscopic and Euler moments
+        (:func:`~rotorkit.elements.base_motion.tilt_kinetic`).
 
     See Also
     --------
@@ -187,6 +191,10 @@ class Disk(Element):
         if self.diametral_inertia is not None:
             (a, ad), (b, bd) = ctx.coord(self.station, "thx"), ctx.coord(self.station, "thy")
             kinetic += p["diametral_inertia"] * (ad**2 + bd**2) / 2 + self.polar_inertia_expr(p) * phi_dot * ad * b
+            frame = base_frame(ctx)
+            if frame is not None:  # a turning base: its gyroscopic and Euler moments on the tilts
+                kinetic += tilt_kinetic(p["diametral_inertia"], self.polar_inertia_expr(p), phi_dot, (a, b), (ad, bd),
+                                        frame.W)
         return Terms(kinetic=kinetic)
 
 
