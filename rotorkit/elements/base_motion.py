@@ -15,14 +15,17 @@ of which the lateral components ``F_x, F_y`` act on the station's ``x, y``.
 
 Kept: all three terms on every station mass, with their dependence on the
 displacements (the centripetal term softens the supports by ``m |W_perp|^2``,
-the Coriolis term couples ``x`` and ``y``).
+the Coriolis term couples ``x`` and ``y``); the same on pedestal masses and,
+through the consistent translational mass, on beam elements' distributed
+mass; on spinning parts with tilt coordinates (disks with diametral inertia,
+beam sections) the gyroscopic moment of spin and base rate, the Euler
+moments and the centrifugal tilt terms (:func:`tilt_kinetic`).
 Neglected: the offset of an eccentric disk's centroid in these loads (order
 ``e W^2``, against the unbalance's ``e Omega^2``), the axial component
-``F_z`` (no axial coordinate), and, until the model has tilt coordinates,
-the gyroscopic moment ``I_p Omega x W`` on spinning disks (a moment: it acts
-only on tilts). The translation of the base's reference point and gravity
-are a :class:`~rotorkit.elements.maneuver.Maneuver` field; combine the
-two (gravity turns with the base in a pull-up: give it as ``Maneuver.profile``).
+``F_z`` (no axial coordinate). The translation of the base's reference
+point and gravity are a :class:`~rotorkit.elements.maneuver.Maneuver` field;
+combine the two (gravity turns with the base in a pull-up: give it as
+``Maneuver.profile``).
 
 Examples
 --------

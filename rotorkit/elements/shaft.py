@@ -60,7 +60,7 @@ class ShaftSegment(Element):
     >>> s = ShaftSegment(start=1, end=2, length=0.33, youngs_modulus=2e11,
     ...                  area_moment=1.178e-7, end_condition="clamped-free")
     >>> round(s.bending_stiffness_value())
-    19476
+    1966775
     """
 
     start: int | str = None
