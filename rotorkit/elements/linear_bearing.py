@@ -126,7 +126,9 @@ class LinearBearing(Element):
         **{f: ("N*m*s/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_DAMP},
     }
     _latex_names = {**{f: f"{f[0]}_{{{f[1:]}}}" for f in _STIFF + _DAMP},
-                    **{f: rf"{f[0]}_{{\theta {f[2:]}}}" for f in _TILT}}
+                    **{f: rf"{f[0]}_{{\theta {f[2:]}}}" for f in _TILT},
+                    **{_PEDESTAL + f: rf"{f[0]}_{{p,{f[1:]}}}" for f in ("kxx", "kyy", "cxx", "cyy")},
+                    _PEDESTAL + "mass": "m_{p}"}
 
     @classmethod
     def tabulated(cls, *, station, speeds, other_station=None, name=None, pedestal=None, **coefficients):
