@@ -36,6 +36,7 @@ import json
 import math
 import os
 import pickle
+import signal
 import tempfile
 from pathlib import Path
 
@@ -305,8 +306,11 @@ def _compile(model, backend="auto"):
     return model.compile(backend=backend)
 
 
-#: wall time (s) after which a short run counts as grinding (see test_runaway_fails_fast)
+#: CPU time (s) of the child after which a short run counts as grinding (see test_runaway_fails_fast)
 RUN_TIMEOUT = 8.0
+#: wall time of a guarded child, per CPU second allowed, before the parent gives up on it: only a backstop (a
+#: loaded machine stretches wall time, not the work a run does, which is what the CPU limit bounds)
+WALL_PER_CPU_SECOND = 20.0
 
 
 def _simulate_outcome(system, span=SPAN, **options):
@@ -322,15 +326,25 @@ def _simulate_outcome(system, span=SPAN, **options):
     return "ok", (result.t, result.y, dict(result.stats))
 
 
-def _child(system, conn, options):
+def _child(system, conn, options, cpu_seconds):
     try:
+        try:  # bound the child's work, not its wall time: SIGXCPU ends it after cpu_seconds of CPU
+            import resource
+
+            limit = max(1, math.ceil(cpu_seconds))
+            resource.setrlimit(resource.RLIMIT_CPU, (limit, limit + 1))
+        except (ImportError, ValueError, OSError):
+            pass
         conn.send(_simulate_outcome(system, **options))
     finally:
         conn.close()
 
 
 def _simulate_guarded(system, timeout=RUN_TIMEOUT, **options):
-    """``_simulate_outcome`` in a forked child that is killed after ``timeout`` s.
+    """``_simulate_outcome`` in a forked child that is stopped after ``timeout`` s of CPU time.
+
+    The bound is on the child's work (RLIMIT_CPU), so a loaded machine does not make a sound run fail; the
+    parent waits ``WALL_PER_CPU_SECOND`` times longer in wall time as a backstop only.
 
     The compiled engine's loop cannot be interrupted from Python (a run-away can grind for a minute, KNOWN
     BUG test_runaway_fails_fast), so each run gets its own process; the core is compiled here first so
@@ -345,16 +359,20 @@ def _simulate_guarded(system, timeout=RUN_TIMEOUT, **options):
     _warm_engines()
     system.rhs(0.0, np.zeros(system.n_states))  # JIT the core before forking
     receiver, sender = ctx.Pipe(duplex=False)
-    proc = ctx.Process(target=_child, args=(system, sender, options), daemon=True)
+    proc = ctx.Process(target=_child, args=(system, sender, options, timeout), daemon=True)
     proc.start()
     sender.close()
     try:
-        if receiver.poll(timeout):
+        if receiver.poll(WALL_PER_CPU_SECOND * timeout + 30.0):
             outcome = receiver.recv()
         else:
             outcome = ("timeout", timeout)
     except EOFError:  # the child died without a word
-        outcome = ("bare", f"child process died (exit code {proc.exitcode})")
+        proc.join()
+        if proc.exitcode in (-signal.SIGXCPU, -signal.SIGKILL):  # its CPU-time bound ran out
+            outcome = ("timeout", timeout)
+        else:
+            outcome = ("bare", f"child process died (exit code {proc.exitcode})")
     finally:
         if proc.is_alive():
             proc.kill()
@@ -377,7 +395,7 @@ def _run_short(system):
     """Simulate a short span: a finite result or a SimulationError that says why."""
     kind, payload = _simulate_guarded(system)
     if kind == "timeout":
-        note(f"still running after {payload} s (KNOWN BUG test_runaway_fails_fast)")
+        note(f"still running after {payload} s of CPU (KNOWN BUG test_runaway_fails_fast)")
         event("run: killed, still grinding")
         return None
     assert kind != "bare", f"simulate raised a bare exception: {payload}"
