@@ -579,8 +579,23 @@ def out_of_sign(unit, sign):
 
 
 NON_FINITE = st.sampled_from([math.nan, -math.nan, math.inf, -math.inf])
+
+
+def _outside_the_grammar(text):
+    """True if the bounded quantity grammar refuses ``text`` (strings such as '2500 g' or '1' are values)."""
+    from rotorkit.units import parse_quantity
+
+    try:
+        parse_quantity(text)
+    except UnitError:
+        return True
+    return False
+
+
 NOT_A_NUMBER = st.one_of(
-    st.text(max_size=8),  # including numeric-looking strings: no silent parsing
+    # strings the bounded grammar refuses (hex, '1,5', '1e', words...): no silent parsing; strings it reads
+    # ('0', '1 kg') are values like any other and meet the sign and dimension checks
+    st.text(max_size=8).filter(_outside_the_grammar),
     st.booleans(),
     st.lists(st.floats(allow_nan=False), max_size=3),
     st.tuples(st.floats(allow_nan=False)),
