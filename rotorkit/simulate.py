@@ -36,8 +36,6 @@ SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 COMPILED_METHODS = ("RK45", "DOP853")
 #: a state beyond this magnitude has diverged (SI rotor states are many orders smaller)
 DIVERGED = 1e10
-#: with a wall-time limit, a compiled chunk also stops after this many step attempts to look at the clock
-CHUNK_STEPS = 200_000
 #: most memory the samples of one run may take (also at most half the free memory)
 MAX_SAMPLE_BYTES = 16e9
 #: loosest tolerances that still control the error of a rotor response (larger ones are refused)
@@ -208,56 +206,62 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
                     message=message if not ok else "success")
 
 
-#: with a wall-time limit or a bound, the compiled engine runs in chunks of this much simulated time (s)
-COMPILED_CHUNK = 0.1
+#: the compiled engine returns to Python about this often (s of wall time): to honour Ctrl-C, a wall-time
+#: limit and a displacement bound between pieces; each piece continues the previous one's steps exactly
+PIECE_SECONDS = 0.25
+#: accepted steps and sample columns of the first compiled piece (later pieces are sized from its wall time)
+FIRST_PIECE_STEPS = 2_000
+FIRST_PIECE_SAMPLES = 4_096
 
 
 def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
-    """One segment in the compiled loop; with a wall-time limit or a displacement bound
-    it runs in chunks of :data:`COMPILED_CHUNK` simulated seconds and checks between them
-    (each chunk restarts the step-size control; the chunks are fixed, so runs repeat exactly)."""
-    from .engines.rk_numba import integrate
+    """One segment in the compiled loop, run in pieces of about :data:`PIECE_SECONDS` of wall time.
+
+    Between pieces Python looks at Ctrl-C, the wall-time limit and the
+    displacement bound. A piece ends between two steps and the next starts
+    with the step size the controller proposed (``first_step=h_next``), so
+    the steps, and the result, are those of one uninterrupted run.
+    """
+    from .engines.rk_numba import STATUS_PAUSED, integrate
 
     p = system.within(a, b).prepared_parameters
-    if deadline is None and bound is None:
-        sol = integrate(system.core, a, b, y, p, t_eval, **options)
-        n = sol.n_samples_done
-        return _Segment(t=sol.t[:n], y=sol.y[:, :n], y_end=sol.y_reached, t_reached=sol.t_reached,
-                        nfev=sol.nfev, success=sol.success, message=sol.message)
-    ts, ys, nfev, start = [], [], 0, a
+    ts, ys, nfev, start, first_step = [], [], 0, a, None
+    steps, capacity = FIRST_PIECE_STEPS, FIRST_PIECE_SAMPLES
+
+    def segment(success, message, t_reached):
+        t_done = np.concatenate(ts) if ts else np.empty(0)
+        y_done = np.concatenate(ys, axis=1) if ys else np.empty((len(y), 0))
+        return _Segment(t=t_done, y=y_done, y_end=y, t_reached=t_reached, nfev=nfev, success=success,
+                        message=message)
+
     while True:
-        end = min(start + COMPILED_CHUNK, b)
-        if b - end < 1e-9 * max(1.0, abs(b)):
-            end = b
-        mask = (t_eval > start) & (t_eval <= end) if ts or start > a else (t_eval >= start) & (t_eval <= end)
-        budget = {"max_steps": CHUNK_STEPS} if deadline is not None else {}
         try:
-            sol = integrate(system.core, start, end, y, p, t_eval[mask], **options, **budget)
-        except KeyboardInterrupt:  # Ctrl-C between compiled chunks: keep the samples so far
-            t_done = np.concatenate(ts) if ts else np.empty(0)
-            y_done = np.concatenate(ys, axis=1) if ys else np.empty((len(y), 0))
-            return _Segment(t=t_done, y=y_done, y_end=y, t_reached=start, nfev=nfev, success=False,
-                            message=f"interrupted (Ctrl-C) at t = {start:.6g} s")
-        n = sol.n_samples_done
-        ts.append(sol.t[:n])
-        ys.append(sol.y[:, :n])
-        nfev += sol.nfev
-        y = sol.y_reached
-        if sol.status == -3 and budget and _time.perf_counter() <= deadline:  # step budget spent: go on
-            start = sol.t_reached
-            continue
-        if sol.status == -3 and budget:  # out of steps and out of time
-            return _Segment(t=np.concatenate(ts), y=np.concatenate(ys, axis=1), y_end=y, t_reached=sol.t_reached,
-                            nfev=nfev, success=False, message="wall-time limit reached")
-        done = sol.success and end == b
-        escaped = _escaped(system, ys[-1], bound)
-        late = deadline is not None and _time.perf_counter() > deadline
-        if not sol.success or done or late or escaped:
-            message = (sol.message if not sol.success else escaped or ("wall-time limit reached" if late else "success"))
-            done = done and not escaped
-            return _Segment(t=np.concatenate(ts), y=np.concatenate(ys, axis=1), y_end=y, t_reached=sol.t_reached,
-                            nfev=nfev, success=done, message=message)
-        start = end
+            rest = t_eval[np.searchsorted(t_eval, start, side="right" if ts else "left"):]  # a view: no copy
+            began = _time.perf_counter()
+            sol = integrate(system.core, start, b, y, p, rest, first_step=first_step, pause_after=steps,
+                            sample_capacity=capacity, **options)
+            n = sol.n_samples_done
+            ts.append(sol.t[:n].copy())
+            ys.append(sol.y[:, :n].copy())  # copies: the piece's buffer is not kept alive
+            nfev += sol.nfev
+            y = sol.y_reached
+            escaped = _escaped(system, ys[-1], bound)
+            late = deadline is not None and _time.perf_counter() > deadline
+            if sol.status != STATUS_PAUSED or escaped or late:
+                if escaped:
+                    return segment(False, escaped, sol.t_reached)
+                if late and sol.status == STATUS_PAUSED:
+                    return segment(False, "wall-time limit reached", sol.t_reached)
+                return segment(sol.success, sol.message if not sol.success else "success", sol.t_reached)
+            start, first_step = sol.t_reached, min(sol.h_next, b - sol.t_reached)
+            tick(start, every=1)
+            grow = min(max(PIECE_SECONDS / max(_time.perf_counter() - began, 1e-4), 0.1), 10.0)
+            steps = int(min(max(steps * grow, 100), 10_000_000))
+            capacity = int(max(FIRST_PIECE_SAMPLES, 4 * grow * n))
+        except KeyboardInterrupt:  # Ctrl-C, in the compiled loop or here: keep the samples of the finished pieces
+            del ts[len(ys):], ys[len(ts):]
+            reached = float(ts[-1][-1]) if ts and ts[-1].size else start
+            return segment(False, f"interrupted (Ctrl-C) at t = {reached:.6g} s", reached)
 
 
 def _choose_engine(engine, system, method):
@@ -352,9 +356,10 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     report = _print_progress if progress is True else (progress or None)
     count = [0]
 
-    def tick(t):
+    def tick(t, every=20000):
+        """Progress after every ``every`` calls (scipy: per step; compiled: per piece, ``every=1``)."""
         count[0] += 1
-        if report is not None and count[0] % 20000 == 0:
+        if report is not None and count[0] % every == 0:
             report((t - t0) / (t1 - t0), t)
 
     checked_after = None
@@ -378,16 +383,13 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     start_wall = _time.perf_counter()
     deadline = None if time_limit is None else start_wall + time_limit
     for k, (a, b) in enumerate(_segments(t0, t1, system.time_events)):
-        mask = (samples >= a) & (samples <= b) if k == 0 else (samples > a) & (samples <= b)
-        seg = run(system, a, b, y, samples[mask], options, tick, deadline, bound)
-        for key in ("nfev", "njev", "nlu", "events"):
-            stats[key] += getattr(seg, key)
-        stats["segments"] += 1
-        out_t.append(seg.t)
-        out_y.append(seg.y)
-        if seg.success and seg.y.size and not (np.all(np.isfinite(seg.y)) and np.abs(seg.y).max() <= DIVERGED):
-            seg.success = False  # dense output between accepted steps past the divergence limit: no result
-            seg.message = f"a sample is non-finite or past the divergence limit |y| > {DIVERGED:g}"
+        try:
+            seg = _run_segment(run, system, k, a, b, y, samples, options, tick, deadline, bound, stats, out_t, out_y)
+        except KeyboardInterrupt:  # Ctrl-C between the engine's own checks (between segments, in bookkeeping)
+            del out_t[len(out_y):], out_y[len(out_t):]  # the lists stay even
+            reached = float(out_t[-1][-1]) if out_t and out_t[-1].size else a
+            seg = _Segment(t=np.empty(0), y=np.empty((system.n_states, 0)), y_end=y, t_reached=reached, nfev=0,
+                           success=False, message=f"interrupted (Ctrl-C) at t = {reached:.6g} s")
         if not seg.success:
             partial = _result(system, out_t, out_y, stats, options, engine, start_wall, False, seg.message)
             raise SimulationError(_failure_message(system, seg, a, b), partial=partial, time=seg.t_reached)
@@ -398,6 +400,21 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     if checked_after is not None:
         _raise_if_ran_away(system, result, checked_after)
     return result
+
+
+def _run_segment(run, system, k, a, b, y, samples, options, tick, deadline, bound, stats, out_t, out_y):
+    """Run segment ``k`` = (a, b), add its samples to ``out_t``/``out_y`` and its counts to ``stats``."""
+    mask = (samples >= a) & (samples <= b) if k == 0 else (samples > a) & (samples <= b)
+    seg = run(system, a, b, y, samples[mask], options, tick, deadline, bound)
+    for key in ("nfev", "njev", "nlu", "events"):
+        stats[key] += getattr(seg, key)
+    stats["segments"] += 1
+    out_t.append(seg.t)
+    out_y.append(seg.y)
+    if seg.success and seg.y.size and not (np.all(np.isfinite(seg.y)) and np.abs(seg.y).max() <= DIVERGED):
+        seg.success = False  # dense output between accepted steps past the divergence limit: no result
+        seg.message = f"a sample is non-finite or past the divergence limit |y| > {DIVERGED:g}"
+    return seg
 
 
 AUTO_BOUND_FLOOR = 0.01  # m

@@ -312,3 +312,37 @@ def test_loop_compiled_once_for_all_cores_and_methods():
             rk.integrate(core, 0.0, 0.1, [1.0, 0.0], [1.0, 1.0], [0.1],
                          method=method)
     assert len(rk._compiled_loop().signatures) == 1
+
+
+# ---------------------------------------------------------------------------
+# Pieces: pausing between steps changes nothing
+# ---------------------------------------------------------------------------
+
+
+def _in_pieces(method, t1, t_eval, steps, capacity):
+    """The Duffing run as a caller of pause_after/sample_capacity would continue it."""
+    y, start, first, ts, ys, pieces = np.array([1.0, 0.0]), 0.0, None, [], [], 0
+    while True:
+        rest = t_eval[np.searchsorted(t_eval, start, side="right" if ts else "left"):]
+        sol = rk.integrate(duffing, start, t1, y, DUFFING_P, rest, method=method, rtol=1e-8, atol=1e-10,
+                           first_step=first, pause_after=steps, sample_capacity=capacity)
+        pieces += 1
+        ts.append(sol.t[:sol.n_samples_done])
+        ys.append(sol.y[:, :sol.n_samples_done])
+        if sol.status != rk.STATUS_PAUSED:
+            return sol, np.concatenate(ts), np.concatenate(ys, axis=1), pieces
+        y, start, first = sol.y_reached, sol.t_reached, min(sol.h_next, t1 - sol.t_reached)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("steps, capacity", [(7, 10_000), (1000, 13), (3, 5)])
+def test_a_run_paused_between_steps_and_continued_equals_one_run(method, steps, capacity):
+    t1 = 30.0
+    t_eval = np.linspace(0.0, t1, 3001)
+    whole = rk.integrate(duffing, 0.0, t1, [1.0, 0.0], DUFFING_P, t_eval, method=method, rtol=1e-8, atol=1e-10)
+    last, t, y, pieces = _in_pieces(method, t1, t_eval, steps, capacity)
+    assert pieces > 10  # it really ran in pieces (by steps, by sample buffer, or both)
+    assert last.status == rk.STATUS_SUCCESS
+    np.testing.assert_array_equal(t, t_eval)  # every sample once
+    # the same steps: equal to rounding (a step redone after a full buffer sees its time as t + h)
+    np.testing.assert_allclose(y, whole.y, rtol=0, atol=1e-12 * np.abs(whole.y).max())

@@ -125,11 +125,14 @@ def test_a_run_killed_while_writing_leaves_the_previous_outputs_whole(tmp_path):
 
 
 @pytest.mark.skipif(not hasattr(signal, "SIGINT"), reason="POSIX signals")
-def test_ctrl_c_stops_a_run_keeps_the_partial_result_and_prints_no_traceback(tmp_path):
+@pytest.mark.parametrize("engine", ["scipy", "compiled"])
+def test_ctrl_c_stops_a_run_keeps_the_partial_result_and_prints_no_traceback(tmp_path, engine):
+    if engine == "compiled":
+        pytest.importorskip("numba")
     out = tmp_path / "out"
     env = dict(os.environ, PYTHONPATH=os.getcwd())
-    child = subprocess.Popen([sys.executable, "-m", "rotorkit.cli", "run", "al31f", "--t-end", "30", "--engine",
-                              "scipy", "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    child = subprocess.Popen([sys.executable, "-m", "rotorkit.cli", "run", "al31f", "--t-end", "300", "--engine",
+                              engine, "--out", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              env=env, text=True)
     try:
         for line in child.stderr:  # the progress lines: the simulation runs
@@ -146,4 +149,4 @@ def test_ctrl_c_stops_a_run_keeps_the_partial_result_and_prints_no_traceback(tmp
     assert "interrupted (Ctrl-C) at t = " in stderr
     assert stopped_after < 10  # about a second on an idle machine; the bound allows for a loaded one
     partial = rk.load_result(out / "signals-partial.npz")
-    assert 0 < partial.t[-1] < 30
+    assert 0 < partial.t[-1] < 300

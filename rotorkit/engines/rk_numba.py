@@ -95,6 +95,7 @@ STATUS_SUCCESS = 0
 STATUS_STEP_TOO_SMALL = -1
 STATUS_NON_FINITE = -2
 STATUS_MAX_STEPS = -3
+STATUS_PAUSED = -4
 _STATUS_RUNNING = 1
 
 SAFETY = 0.9
@@ -420,7 +421,7 @@ CORE_SIGNATURE = types.void(types.float64, _VEC, _VEC, _VEC)
 
 _CORE_TYPE = types.FunctionType(CORE_SIGNATURE)
 _LOOP_RESULT = types.Tuple((types.int64, types.int64, types.float64,
-                            types.int64, types.int64, types.int64))
+                            types.int64, types.int64, types.int64, types.float64))
 _LOOP_SIGNATURE = _LOOP_RESULT(
     _CORE_TYPE,      # core
     types.int64,     # method id
@@ -434,6 +435,7 @@ _LOOP_SIGNATURE = _LOOP_RESULT(
     types.float64,   # first step (<= 0: automatic)
     types.float64,   # max step
     types.int64,     # max steps
+    types.int64,     # pause after this many accepted steps (0: never)
     _MAT,            # samples out (n, len(t_eval))
     _VEC,            # last accepted state out
 )
@@ -704,7 +706,7 @@ def _step_factor(error_norm, error_exponent, rejected_before):
 
 
 def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
-             max_step, max_steps, samples, y_out):
+             max_step, max_steps, pause_after, samples, y_out):
     """Adaptive loop; compiled lazily by `_compiled_loop` (see there).
 
     Mirrors scipy's ``solve_ivp`` driver and ``RungeKutta._step_impl``.  The
@@ -716,8 +718,11 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     -------
     tuple
         ``(status, n_samples_done, t_reached, nfev, n_accepted,
-        n_rejected)``; the samples and the last accepted state are written
-        into `samples` and `y_out`.
+        n_rejected, h_next)``; the samples and the last accepted state are
+        written into `samples` and `y_out`. ``h_next`` is the step size the
+        controller proposes next: a paused run (``pause_after``) continued
+        from ``t_reached`` with ``first_step=h_next`` takes the same steps
+        as one that was never paused.
     """
     n = y0.size
     n_eval = t_eval.size
@@ -748,8 +753,9 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     scale = np.empty(n)
 
     # Samples at t0 are the initial state itself.
+    capacity = samples.shape[1]  # == n_eval unless pausing: then a step whose samples overflow it is redone later
     i_eval = 0
-    while i_eval < n_eval and t_eval[i_eval] <= t0:
+    while i_eval < n_eval and i_eval < capacity and t_eval[i_eval] <= t0:
         _copy_column(y0, samples, i_eval)
         i_eval += 1
 
@@ -771,6 +777,12 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     while status == _STATUS_RUNNING:
         if t >= t1:
             status = STATUS_SUCCESS
+            break
+        if pause_after > 0 and n_accepted >= pause_after:
+            status = STATUS_PAUSED  # between two steps: nothing of the controller's state is lost
+            break
+        if capacity < n_eval and t_eval[capacity] <= t + min(h_abs, max_step):
+            status = STATUS_PAUSED  # the next step might sample past the buffer (a step only shrinks)
             break
 
         # --- one accepted step (scipy's _step_impl) ---------------------
@@ -857,7 +869,7 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
 
     for i in range(n):
         y_out[i] = y[i]
-    return status, i_eval, t, nfev, n_accepted, n_rejected
+    return status, i_eval, t, nfev, n_accepted, n_rejected, h_abs
 
 
 @functools.lru_cache(maxsize=None)
@@ -897,7 +909,9 @@ class RKSolution(NamedTuple):
         ``t_reached``.
     status : int
         0 success; -1 step size fell below ``10 * eps * |t|``; -2 non-finite
-        state or derivative; -3 ``max_steps`` exceeded.
+        state or derivative; -3 ``max_steps`` exceeded; -4 paused after
+        ``pause_after`` accepted steps (continue from ``t_reached``,
+        ``y_reached`` with ``first_step=h_next``).
     t_reached : float
         Time of the last accepted step (``t1`` on success).
     y_reached : numpy.ndarray, shape (n_states,)
@@ -910,6 +924,8 @@ class RKSolution(NamedTuple):
         non-finite value counts as rejected).
     message : str
         Human-readable description of ``status``.
+    h_next : float
+        The step size the controller proposes after ``t_reached``.
     """
 
     t: np.ndarray
@@ -922,6 +938,7 @@ class RKSolution(NamedTuple):
     n_accepted: int
     n_rejected: int
     message: str
+    h_next: float = float("nan")
 
     @property
     def success(self):
@@ -939,6 +956,8 @@ def _status_message(status, t_reached, max_steps):
     if status == STATUS_NON_FINITE:
         return (f"Non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) or non-finite derivative "
                 f"just after t={t_reached!r}; integration stopped.")
+    if status == STATUS_PAUSED:
+        return f"Paused at t={t_reached!r} as asked (pause_after)."
     if status == STATUS_MAX_STEPS:
         return (f"Maximum number of step attempts (max_steps={max_steps}) "
                 f"exceeded at t={t_reached!r}.")
@@ -1090,7 +1109,7 @@ def _as_max_steps(max_steps):
 
 def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
               atol=1e-9, first_step=None, max_step=np.inf,
-              max_steps=50_000_000):
+              max_steps=50_000_000, pause_after=None, sample_capacity=None):
     """Integrate ``dy/dt = core(t, y, p)`` from `t0` to `t1` in compiled code.
 
     Parameters
@@ -1123,6 +1142,18 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
         Largest allowed step (default unbounded).
     max_steps : int, optional
         Largest number of step attempts (accepted plus rejected).
+    pause_after : int, optional
+        Return (status -4) after this many accepted steps, between two
+        steps. Continuing from ``t_reached``/``y_reached`` with
+        ``first_step=h_next`` takes the same steps as an unpaused run, so a
+        caller can look at the clock, its samples or Ctrl-C between pieces
+        without changing the result.
+    sample_capacity : int, optional
+        With ``pause_after``: allocate samples for at most this many of the
+        ``t_eval`` (a long run's later samples are taken by later pieces).
+        The run also pauses, between two steps, when the next step might
+        sample past the buffer; a buffer too small for the first step alone
+        is enlarged here.
 
     Returns
     -------
@@ -1174,8 +1205,11 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
     first_step = _as_first_step(first_step, t0, t1)
     max_step = _as_max_step(max_step)
     max_steps = _as_max_steps(max_steps)
+    pause_after = 0 if pause_after is None else _as_max_steps(pause_after)
 
-    samples = np.full((y0.size, t_eval.size), np.nan)
+    columns = t_eval.size
+    if pause_after and sample_capacity is not None:
+        columns = min(columns, max(1, _as_max_steps(sample_capacity)))
     y_reached = np.empty_like(y0)
     if _compiled_loop.cache_info().currsize:
         loop = _compiled_loop()
@@ -1185,15 +1219,25 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
         with announce_if_slow("loading the compiled integrator (compiled once per installation, ~5-10 s; "
                               "numba caches it on disk)"):
             loop = _compiled_loop()
-    try:
-        status, n_done, t_reached, nfev, n_acc, n_rej = loop(
-            core, method_id, t0, t1, y0, p, t_eval, rtol, atol, first_step,
-            max_step, max_steps, samples, y_reached)
-    except (numba.core.errors.NumbaError, TypeError) as exc:
-        _raise_if_bad_signature(core)
-        raise  # the core compiled fine: the error is its own, keep it as is
+    spent = 0  # core evaluations and rejected attempts of starts whose first step did not fit the buffer
+    rejected_before = 0
+    while True:
+        samples = np.full((y0.size, columns), np.nan)
+        try:
+            status, n_done, t_reached, nfev, n_acc, n_rej, h_next = loop(
+                core, method_id, t0, t1, y0, p, t_eval, rtol, atol, first_step,
+                max_step, max_steps, pause_after, samples, y_reached)
+        except (numba.core.errors.NumbaError, TypeError) as exc:
+            _raise_if_bad_signature(core)
+            raise  # the core compiled fine: the error is its own, keep it as is
+        if not (status == STATUS_PAUSED and n_acc == 0 and columns < t_eval.size):
+            break
+        # the first step's samples alone overflow the buffer: redo it with a larger one
+        columns, first_step = min(t_eval.size, 2 * columns), h_next
+        spent, rejected_before = spent + nfev, rejected_before + n_rej
+    nfev, n_rej = nfev + spent, n_rej + rejected_before
     return RKSolution(
-        t=t_eval, y=samples, n_samples_done=int(n_done), status=int(status),
+        t=t_eval[:samples.shape[1]], y=samples, n_samples_done=int(n_done), status=int(status),
         t_reached=float(t_reached), y_reached=y_reached, nfev=int(nfev),
         n_accepted=int(n_acc), n_rejected=int(n_rej),
-        message=_status_message(status, t_reached, max_steps))
+        message=_status_message(status, t_reached, max_steps), h_next=float(h_next))
