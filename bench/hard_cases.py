@@ -51,6 +51,7 @@ import numpy as np
 
 import rotorkit as rk
 from rotorkit.analysis.energy import energy_balance
+from rotorkit.convergence import check_convergence
 
 #: rub-disk radius (m) beyond which a run is a run-away (7.5 AL-31F clearances)
 RUNAWAY_RADIUS = 1e-3
@@ -117,7 +118,8 @@ class Case:
     overrides: dict = field(default_factory=dict)
     span: tuple = (0.0, 6.0)
     ci_window: tuple = (0.0, 0.2)
-    expect: str = "ok"  # or "run-away"
+    expect: str = "ok"  # or "run-away", or "unconverged" (succeeds, balance closes, trajectory not converged)
+    converge: bool = False  # also run rotorkit.convergence.check_convergence (costs the reference run)
     method: str = "DOP853"
     why: str = ""
     full: bool = True  # part of the full-span matrix (False: a CI-only window)
@@ -146,6 +148,17 @@ def _matrix(model):
              why="the same with scipy's implicit Radau (analytic Jacobian), for comparison"),
         Case(model, "mu_0", {"friction_coefficient": 0.0}, why="frictionless: the rub is conservative"),
     ]
+    if al31f:
+        cases[0] = Case(model, "default", {}, converge=True,
+                        why="reference point; the rest start puts the disk at r2 = 0 exactly")
+        cases += [
+            Case(model, f"kr_1e{k}", {"rub_stiffness": 10.0 ** k}, span=(0.0, 1.0), expect="unconverged",
+                 converge=True, sample_rate=400_000.0, ci_sample_rate=400_000.0,
+                 why=f"extremely stiff contact (1e{k} N/m): every step succeeds, but the trajectory is not "
+                     "converged: against a run at 100 times tighter tolerances it differs by about its own "
+                     "amplitude within 0.2 s (the convergence check says so)")
+            for k in (10, 11, 12)
+        ]
     if al31f:
         cases += [
             Case(model, "mu_0.3", {"friction_coefficient": 0.3}, ci_window=(2.0, 2.15), expect="run-away",
@@ -247,6 +260,7 @@ class Outcome:
     balance_error: str = ""
     samples: int = 0
     balance_until: float | None = None  # the balance covers the samples up to here (run-away overflow)
+    convergence: object = None  # rotorkit.convergence.Convergence when the case asks for the check
     flow_ratio: float = 1.0  # energy that passed through all power channels / the mechanical energy scale
 
     @property
@@ -269,7 +283,9 @@ class Outcome:
         problems = []
         if not self.finite:
             problems.append("non-finite states")
-        if self.balance_error:
+        if self.case.expect == "unconverged":  # a documented limit: the balance is information, not a check
+            pass
+        elif self.balance_error:
             problems.append(f"energy balance not computed: {self.balance_error}")
         elif not np.isfinite(self.relative_residual) or self.relative_residual > self.tolerance:
             problems.append(f"energy residual {self.relative_residual:.1e} > {self.tolerance:.1e} allowed")
@@ -291,6 +307,14 @@ class Outcome:
             problems.append("expected a run-away, none happened")
         if not self.success and not self.runaway:
             problems.append(f"solver failed at t = {self.t_reached:.4g} s: {_short(self.message)}")
+        if self.case.converge and self.success:
+            conv = self.convergence
+            if self.case.expect == "unconverged" and conv.converged:
+                problems.append(f"expected the convergence check to fail: {conv.message}")
+            elif self.case.expect != "unconverged" and not conv.converged:
+                problems.append(f"unexpected: {conv.message}")
+            elif not problems:
+                return ("expected: " if not conv.converged else "ok; ") + conv.message
         return "FAIL: " + "; ".join(problems) if problems else "ok"
 
     @property
@@ -338,6 +362,9 @@ def run(c, window=None, *, rtol=RTOL, sample_rate=None, time_limit=TIME_LIMIT, e
         out.success, out.message, out.t_reached = True, "success", window[1]
     except rk.SimulationError as err:
         result, out.message, out.t_reached = err.partial, str(err).splitlines()[0], err.time
+    if c.converge and out.success:
+        out.convergence = check_convergence(system, result, y0=y0, engine=engine, bound=None,
+                                            time_limit=time_limit)
     out.engine = result.stats["engine"]
     out.wall = wall + result.stats["wall_time"]
     out.nfev = nfev + result.stats["nfev"]

@@ -279,7 +279,7 @@ def _choose_engine(engine, system, method):
 
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
              max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False, bound="auto",
-             sample_times=None):
+             sample_times=None, check_convergence=False):
     """Integrate a compiled system over ``t_span``.
 
     Parameters
@@ -321,6 +321,12 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         dense output instead of the ``sample_rate`` grid (used by
         :func:`rotorkit.sensors.measure` to sample each sensor at its own
         instants).
+    check_convergence : bool
+        Also run with both tolerances 100 times tighter and compare
+        (:mod:`rotorkit.convergence`): ``result.stats["convergence"]`` holds
+        the outcome, and a :class:`~rotorkit.convergence.ConvergenceWarning`
+        says when the trajectory differs by more than 1 % of a coordinate's
+        amplitude. Costs the reference run (about 2x).
     contact_events : bool
         Locate every contact onset and loss (the elements' switch functions:
         rub gap, each ball's deformation) and restart the integrator there,
@@ -382,6 +388,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0, "events": 0}
     start_wall = _time.perf_counter()
     deadline = None if time_limit is None else start_wall + time_limit
+    y_start = y.copy()
     for k, (a, b) in enumerate(_segments(t0, t1, system.time_events)):
         try:
             seg = _run_segment(run, system, k, a, b, y, samples, options, tick, deadline, bound, stats, out_t, out_y)
@@ -399,6 +406,13 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     result = _result(system, out_t, out_y, stats, options, engine, start_wall, True, "success")
     if checked_after is not None:
         _raise_if_ran_away(system, result, checked_after)
+    if check_convergence:
+        from .convergence import check_convergence as check, warn_if_not_converged
+
+        outcome = check(system, result, y0=y_start, engine=engine, max_step=max_step, contact_events=contact_events,
+                        bound="auto" if checked_after is not None else bound)
+        result.stats["convergence"] = outcome.as_dict()
+        warn_if_not_converged(outcome)
     return result
 
 

@@ -22,6 +22,9 @@ def register(sub):
                      help="code back end (auto: numba when installed)")
     run.add_argument("--engine", default="auto", choices=("auto", "compiled", "scipy"),
                      help="integration engine (auto: compiled when numba is available)")
+    run.add_argument("--check-convergence", action="store_true",
+                     help="also run at 100 times tighter tolerances and report how far the two differ "
+                          "(about twice the time; see docs/envelope.md)")
     run.set_defaults(func=main)
 
 
@@ -39,6 +42,8 @@ def main(args):
     print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
     options = dict(method=args.method, rtol=args.rtol, atol=args.atol, sample_rate=args.sample_rate,
                    engine=args.engine, progress=progress_printer())
+    if args.check_convergence:
+        options["check_convergence"] = True
     measurement = None
     try:
         if outputs.get("sensors"):  # the preset's virtual sensors, each at its own rate
@@ -58,6 +63,8 @@ def main(args):
     stats = result.stats
     print(f"simulated 0-{t_end:g} s in {stats['wall_time']:.2f} s: {stats['nfev']} RHS evaluations, "
           f"{stats['engine']} engine, method {stats['method']}, rtol {stats['rtol']:g}, atol {stats['atol']:g}")
+    if "convergence" in stats:
+        print(f"convergence check: {stats['convergence']['message']}")
     from ..files import write_folder
 
     try:

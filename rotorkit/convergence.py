@@ -1,0 +1,145 @@
+"""Is a run converged? The same run at a tighter tolerance, and how far apart the two are.
+
+A run that reports ``success`` has kept its *local* error estimate within
+``rtol``/``atol`` at every step; it says nothing about how far the computed
+trajectory is from the true one. With very stiff contact (rub stiffness
+1e10-1e12 N/m on the AL-31F preset) or chaotic rubbing, two successful runs at
+rtol 1e-6 and 1e-9 can differ by more than the response amplitude within a
+second. :func:`check_convergence` measures it: it repeats the run with both
+tolerances divided by ``factor`` (100 by default), samples it at the same
+instants and reports, per coordinate, the largest difference against that
+coordinate's amplitude::
+
+    relative_difference = max_i  max_t |q_i - q_i,ref| / max(max_t |q_i,ref|, 1000 atol)
+
+(the floor ``1000 atol`` keeps coordinates the run barely moves from
+dominating). Below :data:`TRUSTED` (1 %) the run's trajectory is trusted
+point by point; above it the trajectory is not (its statistics, such as
+spectra or amplitudes, may still be: compare them the same way).
+``simulate(..., check_convergence=True)`` runs it and stores the outcome in
+``result.stats["convergence"]``, with a :class:`ConvergenceWarning` when the
+run is not converged. The check costs the reference run: about
+``factor ** (1/8)`` (1.8 for DOP853) to ``factor ** (1/5)`` (2.5 for RK45)
+times the run itself.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from .errors import ParameterError, SimulationError
+
+__all__ = ["Convergence", "ConvergenceWarning", "check_convergence", "TRUSTED", "FACTOR"]
+
+#: a run whose relative difference to the tighter run stays below this is trusted point by point
+TRUSTED = 1e-2
+#: default ratio of the run's tolerances to the reference run's
+FACTOR = 100.0
+#: tightest relative tolerance a reference run is given (a few hundred times machine epsilon)
+TIGHTEST_RTOL = 1e-13
+
+
+class ConvergenceWarning(UserWarning):
+    """A run differs from the same run at a tighter tolerance by more than :data:`TRUSTED`."""
+
+
+@dataclass(frozen=True)
+class Convergence:
+    """Outcome of :func:`check_convergence`.
+
+    Attributes
+    ----------
+    rtol, reference_rtol : float
+        The run's relative tolerance and the reference run's.
+    relative_difference : float
+        The largest, over the coordinates, of ``max|q - q_ref| / max(max|q_ref|, 1000 atol)``;
+        ``inf`` when the reference run failed.
+    worst : str
+        The coordinate where it is largest.
+    difference, amplitude : float
+        ``max|q - q_ref|`` and ``max|q_ref|`` of that coordinate (SI).
+    reference_wall_time : float
+        Wall time of the reference run (s).
+    message : str
+        One line for the user.
+    """
+
+    rtol: float
+    reference_rtol: float
+    relative_difference: float
+    worst: str
+    difference: float
+    amplitude: float
+    reference_wall_time: float
+    message: str
+
+    @property
+    def converged(self):
+        """Whether the run is trusted point by point (``relative_difference <= TRUSTED``)."""
+        return bool(self.relative_difference <= TRUSTED)
+
+    def as_dict(self):
+        """A JSON-ready dict (stored in ``result.stats["convergence"]``)."""
+        return {**asdict(self), "converged": self.converged}
+
+
+def check_convergence(system, result, *, factor=FACTOR, **options):
+    """Repeat the run of ``result`` with tolerances divided by ``factor``; compare the coordinates.
+
+    Parameters
+    ----------
+    system : rotorkit.System
+        The system ``result`` was computed from.
+    result : rotorkit.Result
+        The run to check (its ``stats`` give method, rtol and atol).
+    factor : float
+        Tolerance ratio (> 1).
+    **options
+        Other arguments of :func:`rotorkit.simulate` the run used (``engine``,
+        ``max_step``, ``bound``, ``contact_events``, ``y0``).
+
+    Returns
+    -------
+    Convergence
+    """
+    from .simulate import simulate
+
+    if not (isinstance(factor, (int, float)) and factor > 1 and np.isfinite(factor)):
+        raise ParameterError(f"factor={factor!r} must be a finite number > 1 (e.g. 100)")
+    rtol = float(result.stats["rtol"])
+    atol = np.asarray(result.stats["atol"], dtype=float)
+    reference_rtol = max(rtol / factor, TIGHTEST_RTOL)
+    began = time.perf_counter()
+    n = len(system.coordinate_names)
+    try:
+        reference = simulate(system, (float(result.t[0]), float(result.t[-1])), method=result.stats["method"],
+                             rtol=reference_rtol, atol=atol * (reference_rtol / rtol), sample_times=result.t,
+                             **options)
+    except SimulationError as err:
+        return Convergence(rtol, reference_rtol, float("inf"), "", float("nan"), float("nan"),
+                           time.perf_counter() - began,
+                           f"not converged: the reference run at rtol {reference_rtol:.0e} failed ({err.args[0]})")
+    wall = time.perf_counter() - began
+    q, q_ref = result.y[:n], reference.y[:n]
+    difference = np.max(np.abs(q - q_ref), axis=1)
+    amplitude = np.max(np.abs(q_ref), axis=1)
+    floor = 1000.0 * (atol[:n] if atol.ndim else np.full(n, float(atol)))
+    relative = difference / np.maximum(amplitude, floor)
+    worst = int(np.argmax(relative))
+    name = system.coordinate_names[worst]
+    verdict = "converged" if relative[worst] <= TRUSTED else "NOT converged"
+    message = (f"{verdict}: against rtol {reference_rtol:.0e}, {name} differs by {difference[worst]:.3g} "
+               f"({100 * relative[worst]:.3g} % of its amplitude {amplitude[worst]:.3g})")
+    return Convergence(rtol, reference_rtol, float(relative[worst]), name, float(difference[worst]),
+                       float(amplitude[worst]), wall, message)
+
+
+def warn_if_not_converged(convergence):
+    """A :class:`ConvergenceWarning` for a run that is not trusted point by point."""
+    if not convergence.converged:
+        warnings.warn(f"{convergence.message}; tighten rtol, or trust only statistics (spectra, amplitudes) "
+                      "of this run (see docs/envelope.md)", ConvergenceWarning, stacklevel=3)
