@@ -40,6 +40,8 @@ DIVERGED = 1e10
 MAX_SAMPLE_BYTES = 16e9
 #: loosest tolerances that still control the error of a rotor response (larger ones are refused)
 MAX_RTOL = 0.1
+#: most steps a run may be asked for by max_step (the compiled engine's own limit on step attempts)
+MAX_STEP_COUNT = 5e7
 MAX_ATOL = 1e-2
 #: methods that use the analytic Jacobian generated from the symbolic equations
 IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
@@ -529,6 +531,10 @@ def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_lim
         raise ParameterError(f"atol={atol!r} cannot give an answer: an absolute error above {MAX_ATOL:g} (SI: "
                              "1 cm, 0.01 rad) is larger than the responses rotorkit computes; use e.g. atol=1e-9")
     max_step = _number(max_step, "max_step", "a step > 0 in s (inf: unbounded)", allow_inf=True)
+    if (t1 - t0) / max_step > MAX_STEP_COUNT:
+        raise ParameterError(f"max_step={max_step!r} over t_span=({t0:g}, {t1:g}) asks for at least "
+                             f"{(t1 - t0) / max_step:.2g} steps, more than the {MAX_STEP_COUNT:.0e} any run may take "
+                             "(hours of wall time); raise max_step, or shorten the span")
     if time_limit is not None:
         time_limit = _number(time_limit, "time_limit", "a wall time > 0 in s, or None", allow_inf=True)
     if progress is not None and progress is not True and progress is not False and not callable(progress):

@@ -244,3 +244,40 @@ def test_numba_cache_elsewhere_is_not_used(fresh_cache, tmp_path, monkeypatch):
     forget(monkeypatch)
     assert run() == pytest.approx(EXPECTED)
     assert numba_files(entry_of(fresh_cache), ".nbi")  # without it, the verified cache beside rhs.py is used
+
+
+def _twice(x):
+    return 2.0 * x
+
+
+def test_rotorkits_own_compiled_code_is_cached_privately_and_verified(fresh_cache, tmp_path, monkeypatch):
+    """The shared integration loop's cache (rotorkit.codegen.cache.jit_shared) is guarded like a model's."""
+    import numba
+
+    signature = numba.float64(numba.float64)
+    assert cache.jit_shared(_twice, "twice", signature)(2.0) == 4.0
+    entry = fresh_cache / "shared" / "twice"
+    files = sorted(entry.glob("*/*.nb*"))
+    assert files and all(f.stat().st_mode & 0o777 == 0o600 for f in files)
+    assert (entry / cache.SIGNATURES).exists()
+    marker = tmp_path / "ran"
+    for path in files:
+        path.write_bytes(pickle.dumps(Planted(marker)))
+    forget(monkeypatch)
+    with pytest.warns(cache.CacheWarning, match="did not sign"):
+        assert cache.jit_shared(_twice, "twice", signature)(3.0) == 6.0
+    assert not marker.exists()
+    with warnings.catch_warnings():  # signed again: the next process loads it without a word
+        warnings.simplefilter("error")
+        forget(monkeypatch)
+        assert cache.jit_shared(_twice, "twice", signature)(4.0) == 8.0
+
+
+def test_the_integration_loop_uses_the_private_cache():
+    import inspect
+
+    from rotorkit.engines import rk_numba
+
+    assert "jit_shared(_rk_loop" in inspect.getsource(rk_numba._compiled_loop)
+    rk_numba._compiled_loop()
+    assert any((cache.cache_dir() / "shared" / "rk_loop").glob("*/*.nbi"))

@@ -123,3 +123,19 @@ def test_names_equal_after_unicode_normalisation_are_refused():
     with pytest.raises(TopologyError, match=r"the same identifier 'R' after Unicode normalisation"):
         rk.Model(two_rotors("\u211b"))
     assert len(rk.Model(two_rotors("S")).elements) == 6
+
+
+def test_a_max_step_that_asks_for_too_many_steps_is_refused_before_running(system):
+    with pytest.raises(ParameterError, match=r"max_step=1e-09 .* at least 1e\+09 steps"):
+        rk.simulate(system, (0.0, 1.0), max_step=1e-9, engine="scipy")
+    result = rk.simulate(system, (0.0, 1e-3), max_step=1e-7)  # 1e4 steps: fine
+    assert result.stats["success"]
+
+
+@pytest.mark.parametrize("n_balls", [101, 5000])
+def test_a_bearing_with_thousands_of_balls_is_refused_at_construction(n_balls):
+    with pytest.raises(ParameterError, match=rf"n_balls={n_balls} is more than 100"):
+        rk.BallBearing(inner_station=1, outer_station=2, contact_stiffness=1e9, clearance=1e-6, n_balls=n_balls,
+                       inner_race_radius=0.04, outer_race_radius=0.06)
+    rk.BallBearing(inner_station=1, outer_station=2, contact_stiffness=1e9, clearance=1e-6, n_balls=100,
+                   inner_race_radius=0.04, outer_race_radius=0.06)

@@ -8,6 +8,8 @@ is stored under the model's ``structure_key``::
     <cache>/models/<key>/meta.json       format, key, HMAC-SHA256 of rhs.py
     <cache>/models/<key>/__pycache__/    numba's machine code (*.nbi, *.nbc)
     <cache>/models/<key>/numba.sig.json  HMAC of every file in __pycache__
+    <cache>/shared/<name>/               numba's cache of rotorkit's own compiled code (the
+                                         integration loop), with its numba.sig.json
     <cache>/secret.key                   a random key, readable by this user only
 
 What is trusted
@@ -255,9 +257,9 @@ def store(key, source):
 # -- numba's cache files ------------------------------------------------------
 
 
-def _verify_numba_files(entry):
-    """Remove every file of ``entry/__pycache__`` that does not carry this user's signature."""
-    folder = entry / "__pycache__"
+def _verify_numba_files(entry, folder=None):
+    """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature."""
+    folder = entry / "__pycache__" if folder is None else folder
     _private_dir(folder)
     secret = _secret()
     try:
@@ -279,9 +281,9 @@ def _verify_numba_files(entry):
                    "left by an interrupted run or planted); numba compiles again", topic=("numba", str(folder)))
 
 
-def _sign_numba_files(entry):
+def _sign_numba_files(entry, folder=None):
     secret = _secret()
-    folder = entry / "__pycache__"
+    folder = entry / "__pycache__" if folder is None else folder
     signed = {}
     for path in folder.iterdir():
         if path.is_file() and not path.is_symlink():
@@ -290,20 +292,25 @@ def _sign_numba_files(entry):
     atomic_write_text(entry / SIGNATURES, json.dumps(signed, sort_keys=True), mode=0o600)
 
 
-def _guard(dispatcher, entry):
-    """Make numba verify its cache files before reading them and sign them after writing; False if impossible."""
+def _guard(dispatcher, entry, folder=None):
+    """Make numba verify its cache files before reading them and sign them after writing; False if impossible.
+
+    ``folder`` is where numba must keep them (default ``entry/__pycache__``);
+    the signatures are in ``entry``.
+    """
+    folder = entry / "__pycache__" if folder is None else folder
     function_cache = getattr(dispatcher, "_cache", None)
     path = getattr(function_cache, "_cache_path", None)
     load_overload = getattr(function_cache, "load_overload", None)
     save_overload = getattr(function_cache, "save_overload", None)
     if path is None or load_overload is None or save_overload is None:
         return False
-    if os.path.realpath(path) != os.path.realpath(entry / "__pycache__"):
+    if os.path.realpath(path) != os.path.realpath(folder):
         return False  # NUMBA_CACHE_DIR or an unwritable entry: numba would read files we do not check
 
     def verified_load(*args, **kwargs):
         try:
-            _verify_numba_files(entry)
+            _verify_numba_files(entry, folder)
             return load_overload(*args, **kwargs)
         except Exception as exc:  # noqa: BLE001 - a damaged cache file: compile instead
             _warn_once(f"rotorkit cache: numba's cache in {path} could not be read ({type(exc).__name__}: {exc}); "
@@ -313,9 +320,9 @@ def _guard(dispatcher, entry):
 
     def signed_save(*args, **kwargs):
         try:
-            _verify_numba_files(entry)  # numba reads its index again before adding to it
+            _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
             save_overload(*args, **kwargs)
-            _sign_numba_files(entry)
+            _sign_numba_files(entry, folder)
         except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
             _warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
                        f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
@@ -347,6 +354,39 @@ def jit(module, name, **options):
             _warn_once(f"rotorkit cache: numba's disk cache cannot be used for {entry} ({exc}); "
                        "compiling in memory", topic=("numba-jit", str(entry)))
     return numba.njit(cache=False, **options)(function)
+
+
+def jit_shared(function, name, signature, **options):
+    """numba dispatcher for a function of rotorkit itself (the integration loop), compiled for ``signature``.
+
+    numba would keep its cache beside the package (or, where that is not
+    writable, in a per-user folder it creates with the umask) and read it
+    unchecked. Here it is kept in the private cache, ``<cache>/shared/<name>``,
+    verified and signed like a model's (see the module docstring).
+    """
+    import numba
+
+    try:
+        entry = _rebuilt_dir(cache_dir() / "shared")
+        entry = _rebuilt_dir(entry / name)
+        saved = numba.config.CACHE_DIR
+        numba.config.CACHE_DIR = str(entry)  # read when the dispatcher's cache is set up, just below
+        try:
+            dispatcher = numba.njit(cache=True, **options)(function)
+        finally:
+            numba.config.CACHE_DIR = saved
+        folder = Path(getattr(getattr(dispatcher, "_cache", None), "_cache_path", "") or entry / "missing")
+        if _guard(dispatcher, entry, folder):
+            dispatcher.compile(signature.args)  # loads the verified cache, or compiles and signs
+            dispatcher.disable_compile()  # as njit(signature) does: arguments convert to it, no specialisations
+            return dispatcher
+    except (OSError, RuntimeError) as exc:
+        _warn_once(f"rotorkit cache: numba's disk cache cannot be used for {name} ({exc}); compiling in memory",
+                   topic=("numba-shared", name))
+    dispatcher = numba.njit(cache=False, **options)(function)
+    dispatcher.compile(signature.args)
+    dispatcher.disable_compile()
+    return dispatcher
 
 
 def info():

@@ -12,6 +12,9 @@ from ..symbolic.functions import ramp
 from .base import Element, Terms
 from .rotor import check_station
 
+#: most balls a BallBearing takes (each adds its own contact terms to derive and compile)
+MAX_BALLS = 100
+
 __all__ = ["BallBearing"]
 
 
@@ -43,7 +46,7 @@ class BallBearing(Element):
     clearance : float or pint.Quantity
         Radial clearance delta_0 (m), >= 0.
     n_balls : int
-        Number of balls N_b (>= 3). Structural: it sets the number of terms.
+        Number of balls N_b (3 to ``MAX_BALLS`` = 100). Structural: it sets the number of terms.
     inner_race_radius, outer_race_radius : float or pint.Quantity
         R_inner, R_outer (m).
     exponent : float
@@ -96,6 +99,12 @@ class BallBearing(Element):
         if isinstance(self.n_balls, (bool, np.bool_)) or not isinstance(self.n_balls, numbers.Integral) \
                 or self.n_balls < 3:
             raise ParameterError(f"{who}: n_balls={self.n_balls!r} must be an int >= 3")
+        if self.n_balls > MAX_BALLS:
+            raise ParameterError(
+                f"{who}: n_balls={self.n_balls!r} is more than {MAX_BALLS}: every ball adds its own contact terms, "
+                f"so deriving and compiling grow with the count (thousands take minutes); rolling-element "
+                f"bearings have 6-{MAX_BALLS} elements: give the real count, or model the bearing by its "
+                "linearised coefficients (LinearBearing)")
         object.__setattr__(self, "n_balls", int(self.n_balls))
         if isinstance(self.exponent, (bool, np.bool_)) or not isinstance(self.exponent, numbers.Real) \
                 or not math.isfinite(self.exponent) or not self.exponent >= 1:

@@ -46,12 +46,23 @@ Compilation and caching
 The core is passed to the compiled loop as a first-class function
 (``numba.types.FunctionType(CORE_SIGNATURE)``), not as a dispatcher type.  The
 loop is therefore compiled once for all cores and both methods, and it can be
-cached on disk (``cache=True``): a new core only costs its own compilation.
+cached on disk: a new core only costs its own compilation. The disk cache is
+kept in rotorkit's private cache folder, verified and signed like a model's
+(:func:`rotorkit.codegen.cache.jit_shared`), never beside the package.
 Passing the dispatcher itself (the alternative pattern) would make every core
 a distinct type, recompile the loop for each model and defeat on-disk caching
 because dispatcher types do not survive the process.  The loop is compiled (or
 loaded from the cache) on the first call of `integrate`, not at import
-(measured: ~3.4 s cold, ~0.4 s from the cache, ~0.05 s per new core).
+(seconds cold, a fraction of that from the cache; ``bench/bench_core.py``).
+
+Pieces
+------
+With ``pause_after`` the loop returns between two steps (status -4) with the
+step size its controller proposes next (``h_next``); a caller continuing from
+there with ``first_step=h_next`` takes exactly the steps of an uninterrupted
+run. :func:`rotorkit.simulate` runs every compiled segment this way, in
+pieces of about a quarter second of wall time, to look at Ctrl-C, the wall
+time limit and the displacement bound between them.
 
 The price of the function-pointer call is small (0-10 % per step against a
 loop specialised on one core), plus ~30 us per `integrate` call for numba to
@@ -881,8 +892,9 @@ def _compiled_loop():
     numba.core.dispatcher.Dispatcher
         The loop, compiled for `_LOOP_SIGNATURE` only.
     """
-    return njit(_LOOP_SIGNATURE, cache=True, nogil=True,
-                error_model="numpy")(_rk_loop)
+    from ..codegen.cache import jit_shared
+
+    return jit_shared(_rk_loop, "rk_loop", _LOOP_SIGNATURE, nogil=True, error_model="numpy")
 
 
 # ---------------------------------------------------------------------------
