@@ -263,8 +263,8 @@ def test_friction_takes_energy_out_of_a_forward_whirl():
 
 
 def test_al31f_balance_closes_to_a_tolerance_that_follows_rtol():
-    """rtol 1e-6 and 1e-9 (atol = 1e-6 rtol): the residual stays below 10 rtol and shrinks by
-    more than 10. At 400 kHz the quadrature part (its bound |W - W_2h|, dominated by the onsets
+    """rtol 1e-6 and 1e-9 (atol = 1e-6 rtol): the residual stays below 10 rtol per energy scale
+    carried through the channels (as in the hard-case matrix) and shrinks by more than 10. At 400 kHz the quadrature part (its bound |W - W_2h|, dominated by the onsets
     of the Hertzian ball contacts, which are only C1) stays below half the allowed residual."""
     model = rk.preset("al31f")
     system = model.compile()
@@ -272,8 +272,9 @@ def test_al31f_balance_closes_to_a_tolerance_that_follows_rtol():
     for rtol in (1e-6, 1e-9):
         result = rk.simulate(system, (0.0, 0.1), rtol=rtol, atol=1e-6 * rtol, sample_rate=400_000.0)
         balance = energy_balance(model, result)
-        assert balance.relative_quadrature_error < 0.5 * 10 * rtol  # the samples resolve the power
-        assert balance.relative_residual < 10 * rtol
+        allowed = 10 * rtol * max(1.0, balance.flow / balance.scale)  # 10 rtol per energy scale carried through
+        assert balance.relative_quadrature_error < 0.5 * allowed  # the samples resolve the power
+        assert balance.relative_residual < allowed
         assert balance.work["drive"][-1] > 0 > balance.work["damping"][-1]
         assert balance.work["rub2"][-1] < 0  # rubbing with mu = 0.1 takes energy out
         out[rtol] = balance.relative_residual
@@ -287,7 +288,7 @@ def test_al31f_across_the_roll_start_between_samples():
     result = rk.simulate(system, (0.0, 0.1), rtol=1e-9, atol=1e-15, sample_rate=200_000.0)
     balance = energy_balance(model, result)
     assert balance.events == (0.0500037,)
-    assert balance.relative_residual < 1e-8
+    assert balance.relative_residual < 10 * 1e-9 * max(1.0, balance.flow / balance.scale)
     jump = np.abs(np.diff(balance.power_in["maneuver"])).max()
     assert jump > 10 * np.abs(np.diff(balance.power_in["maneuver"][:1000])).max()  # the loads do jump
 
