@@ -2,8 +2,10 @@
 
 :func:`campbell` solves the modes at each speed of a grid, either of a
 :class:`~rotorkit.analysis.linear_model.LinearModel` (one eigen-solution
-per speed) or of a compiled system re-linearised at each speed (speed
-dependent bearings and contacts exactly at each point). Modes are tracked
+per speed) or of a compiled system: a linear one has its matrices
+evaluated at each speed from the derived symbolic ones (speed-dependent
+bearings exactly), one with contacts is linearised once (or, on request,
+at every speed). Modes are tracked
 from one speed to the next by the modal assurance criterion (MAC) of their
 shapes, ``|a^H b|^2 / (|a|^2 |b|^2)``, with an optimal assignment
 (:func:`scipy.optimize.linear_sum_assignment`), not by sorting frequencies:
@@ -208,30 +210,48 @@ def _resolve_system(source, backend):
     )
 
 
-def _solver(target, speed_parameter, options, n_modes=None):
+def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, speeds=None):
     """(modes_at(speed), spins_at(speed), parameter name) for a LinearModel or a System."""
-    from .linear_model import LinearModel
+    from .linear_model import LinearModel, frozen_system, linear_model
+
+    def sparse_count(n):
+        return int(n_modes) + 4 if n_modes is not None and n > 100 else None  # sparse solve for big models
 
     if isinstance(target, LinearModel):
-        wanted = int(n_modes) + 4 if n_modes is not None and target.n > 100 else None  # sparse solve for big models
+        wanted = sparse_count(target.n)
         return (lambda w: target.modes(w, left=False, n_modes=wanted)), target.spin_speeds, target.speed_parameter
-    from .linearize import _rotor_speeds
+    from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
+    from .modal import modes_from_matrices
     from .modes import natural_frequencies
 
-    available = [p for p in target.parameters if p.endswith("_speed") and p[: -len("_speed")] in target.model.rotors]
-    if speed_parameter is None:
-        speed_parameter = available[0] if available else None
-    if speed_parameter not in available:
-        raise ParameterError(
-            f"speed_parameter={speed_parameter!r} is not a rotor speed of {target.name!r}: expected one of {available}"
-        )
-
-    def modes_at(w):
-        point = target.with_parameters(**{speed_parameter: float(w)})
-        return natural_frequencies(point, **options)
+    t = options["t"]
+    model, speed_parameter = frozen_system(target, speed_parameter, None, t, who="campbell")
+    values = model.parameters
 
     def spins_at(w):
-        return _rotor_speeds(target.with_parameters(**{speed_parameter: float(w)}))
+        return rotor_spin_speeds(model, t, dict(values, **{speed_parameter: float(w)}))
+
+    evaluator = None if relinearize else linear_evaluator(model, t, values, free=(speed_parameter,))
+    if evaluator is not None:  # linear equations: numbers per speed, no linearisation
+        names, positions = tuple(model.coordinate_names), station_positions(model)
+        wanted = sparse_count(len(names))
+
+        def modes_at(w):
+            M, C, K = evaluator(**{speed_parameter: float(w)})
+            return modes_from_matrices(M, C, K, names, left=False, n_modes=wanted, speed=float(w),
+                                       station_positions=positions)
+
+        return modes_at, spins_at, speed_parameter
+    system = target if model is target.model else model.compile(backend=target.backend)
+    if not relinearize:  # contacts, Hertzian bearings: one linear model about the middle of the range
+        middle = 0.5 * (float(speeds[0]) + float(speeds[-1]))
+        linear = linear_model(system, speed_parameter=speed_parameter, speed=middle,
+                              **{k: v for k, v in options.items() if k != "unbalance"})
+        wanted = sparse_count(linear.n)
+        return (lambda w: linear.modes(w, left=False, n_modes=wanted)), spins_at, speed_parameter
+
+    def modes_at(w):
+        return natural_frequencies(system.with_parameters(**{speed_parameter: float(w)}), **options)
 
     return modes_at, spins_at, speed_parameter
 
@@ -271,7 +291,7 @@ def _check_speeds(speeds):
 
 def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None, orders=(1.0,), refine=True,
              t=0.0, equilibrium=True, rub_engaged=None, unbalance=False, cage_samples=None, method="auto",
-             backend="auto", xtol=None):
+             backend="auto", xtol=None, relinearize=False):
     """Modes tracked across speeds, critical speeds and instability onsets.
 
     Parameters
@@ -279,8 +299,18 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     model_or_preset_builder : LinearModel, System, Model, str or callable
         A linear model (its ``G`` and ``H`` scale with the speed); or a
         compiled system, a model (compiled with ``backend``), a preset name
-        or a function of no arguments returning one, re-linearised at each
-        speed with :func:`~rotorkit.analysis.modes.natural_frequencies`.
+        or a function of no arguments returning one. A system whose
+        equations are linear in the coordinates and their rates (beams,
+        disks, linear bearings, speed-dependent ones included) has its
+        matrices evaluated from the derived symbolic ones at each speed
+        (:func:`~rotorkit.analysis.linear_matrices.linear_evaluator`: no
+        linearisation). A system with contacts or Hertzian bearings is
+        linearised once, at its static equilibrium about the middle of the
+        speed range (:func:`~rotorkit.analysis.linear_model.linear_model`:
+        exact gyroscopics, first order in the speed otherwise), or at every
+        speed with ``relinearize=True``
+        (:func:`~rotorkit.analysis.modes.natural_frequencies`). A rotor with
+        a speed profile is swept by ``<rotor>_speed`` like a constant one.
     speeds : array_like, shape (n_speeds,)
         Increasing values of the swept speed (rad/s).
     n_modes : int
@@ -301,6 +331,10 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     xtol : float, optional
         Absolute tolerance (rad/s) of the located speeds (default 1e-9 of the
         speed range).
+    relinearize : bool
+        For a system that is not linear: re-linearise it at every speed
+        (slow: an equilibrium and a Jacobian per speed and per root-finding
+        step) instead of once.
 
     Returns
     -------
@@ -334,7 +368,9 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         raise ParameterError(f"orders={orders!r} is invalid: expected positive excitation orders, e.g. (1, 2)")
     options = dict(t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=unbalance,
                    cage_samples=DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples, method=method)
-    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options, n_modes)
+    if not isinstance(relinearize, bool):
+        raise ParameterError(f"relinearize={relinearize!r} is invalid: expected True or False")
+    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options, n_modes, relinearize, w)
 
     count = int(n_modes)
     shape = (w.size, count)

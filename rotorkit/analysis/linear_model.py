@@ -185,11 +185,23 @@ class LinearModel:
 
         ``n_modes``: only the lowest ones (sparse shift-invert solve for large models).
         """
-        from .modal import modes_from_state_matrix
+        from .modal import modes_from_matrices, modes_from_state_matrix
 
         w = _speed(speed)
-        return modes_from_state_matrix(self.state_matrix(w), self.coordinate_names, mass=self.mass, left=left,
+        if n_modes is not None and 2 * self.n > 4 * int(n_modes) + 20:
+            M, C, K, G, H = self._sparse
+            return modes_from_matrices(M, C + w * G, K + w * H, self.coordinate_names, left=left,
                                        n_modes=n_modes, speed=w, station_positions=self.station_positions)
+        return modes_from_state_matrix(self.state_matrix(w), self.coordinate_names, mass=self.mass, left=left,
+                                       speed=w, station_positions=self.station_positions)
+
+    @functools.cached_property
+    def _sparse(self):
+        """``M, C, K, G, H`` as scipy sparse (CSC) matrices, built once."""
+        from scipy import sparse
+
+        return tuple(sparse.csc_matrix(A) for A in (self.mass, self.damping, self.stiffness, self.gyroscopic,
+                                                     self.circulatory))
 
 
 def _speed(speed, name="speed"):
@@ -212,69 +224,108 @@ def _mass_matrix(system):
     return np.array(M.subs(subs).evalf(), dtype=float) if subs else np.array(sp.N(M), dtype=float)
 
 
+def _speed_parameters(model):
+    """``<rotor>_speed`` of every rotor that has its own speed (constant or a speed profile)."""
+    return [f"{name}_speed" for name, r in model.rotors.items() if r.speed is not None]
+
+
+def frozen_system(system, speed_parameter=None, speed=None, t=0.0, who="linear_model"):
+    """``(model, speed_parameter)``: the system's model with speed profiles frozen at ``t``, and the swept speed.
+
+    A rotor with a :class:`~rotorkit.elements.speed.SpeedProfile` spins at
+    its speed at ``t`` (``speed`` instead, if it is the swept rotor), so that
+    its ``<rotor>_speed`` becomes a parameter that can be swept.
+    """
+    from .linear_matrices import frozen_speed_model
+
+    model = system.model
+    available = _speed_parameters(model)
+    if speed_parameter is None:
+        if not available:
+            raise ParameterError(f"{who}: {system.name!r} has no rotor with its own speed to sweep")
+        speed_parameter = available[0]
+    if speed_parameter not in available:
+        raise ParameterError(f"{who}: speed_parameter={speed_parameter!r} is not a rotor speed: expected one of "
+                             f"{available} (a rotor with a speed profile is swept by <rotor>_speed too)")
+    rotor = speed_parameter[: -len("_speed")]
+    given = {rotor: speed} if speed is not None and model.rotors[rotor].profile is not None else None
+    return frozen_speed_model(model, t, given), speed_parameter
+
+
 def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t=0.0, equilibrium=True,
                  rub_engaged=None, cage_samples=None, method="auto"):
-    """Linearise a compiled system into a :class:`LinearModel` about a swept speed.
+    """The :class:`LinearModel` of a compiled system about a swept speed.
 
     Parameters
     ----------
     system : rotorkit.System
     speed_parameter : str, optional
         The swept rotor speed, ``<rotor>_speed`` (default: the first rotor's).
+        A rotor whose speed is a :class:`~rotorkit.elements.speed.SpeedProfile`
+        is swept by ``<rotor>_speed`` too: its speed is frozen (see ``speed``).
     speed : float, optional
-        Speed ``W0`` (rad/s) of the linearisation (default: the system's value).
+        Speed ``W0`` (rad/s) of the linearisation. Default: the system's value,
+        or for a speed profile its speed at time ``t``.
     speed_step : float, optional
         ``dW`` for the speed derivatives (default ``max(1, 0.01 |W0|)`` rad/s).
     t, equilibrium, rub_engaged, cage_samples, method
-        As in :func:`rotorkit.analysis.modes.natural_frequencies`.
+        As in :func:`rotorkit.analysis.modes.natural_frequencies` (``t`` also
+        picks the speed of a speed profile).
 
     Returns
     -------
     LinearModel
-        ``G = dC/dW`` and ``H = dK/dW`` at ``W0``: exact for gyroscopics,
-        a first-order model for speed-dependent bearings (re-linearise far
-        from ``W0``).
+        When every force of the model is linear in the coordinates and
+        their rates, the matrices are the derived symbolic ones evaluated
+        numerically (:func:`~rotorkit.analysis.linear_matrices.linear_evaluator`,
+        no equilibrium or Jacobian needed): ``G`` and ``H`` are their exact
+        speed derivatives for gyroscopics and constant bearings. Otherwise
+        (contacts, Hertzian bearings) the system is linearised at its static
+        equilibrium at ``W0`` and ``W0 + dW``. Either way ``G = dC/dW`` and
+        ``H = dK/dW`` at ``W0`` is a first-order model for speed-dependent
+        bearings (re-linearise far from ``W0``).
     """
-    from .linearize import _check_system, _rotor_speeds
+    from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
+    from .linearize import _check_system
     from .modes import DEFAULT_CAGE_SAMPLES, averaged_jacobian
 
     _check_system(system, "linear_model")
-    available = [p for p in system.parameters if p.endswith("_speed") and p[: -len("_speed")] in system.model.rotors]
-    if speed_parameter is None:
-        if not available:
-            raise ParameterError(f"{system.name!r} has no rotor with its own speed to sweep")
-        speed_parameter = available[0]
-    if speed_parameter not in available:
-        raise ParameterError(f"speed_parameter={speed_parameter!r} is not a rotor speed: expected one of {available}")
-    w0 = system.parameters[speed_parameter] if speed is None else _speed(speed)
+    model, speed_parameter = frozen_system(system, speed_parameter, speed, t)
+    values = model.parameters
+    w0 = values[speed_parameter] if speed is None else _speed(speed)
     dw = max(1.0, 0.01 * abs(w0)) if speed_step is None else _speed(speed_step, "speed_step")
     if dw <= 0:
         raise ParameterError(f"speed_step={speed_step!r} is invalid: expected a positive speed step (rad/s)")
-    samples = DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples
-    n = len(system.coordinate_names)
-    blocks = []
-    spins = []
-    for w in (w0, w0 + dw):
-        point = system.with_parameters(**{speed_parameter: float(w)})
-        A = averaged_jacobian(point, t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=False,
-                              cage_samples=samples, eps=None, method=method)[0]
-        blocks.append((-A[n:, :n], -A[n:, n:]))
-        spins.append(_rotor_speeds(point))
-    M = _mass_matrix(system)
-    (K0, C0), (K1, C1) = blocks
-    G, H = (C1 - C0) / dw, (K1 - K0) / dw
+    points = [dict(values, **{speed_parameter: float(w)}) for w in (w0, w0 + dw)]
+    spins = [rotor_spin_speeds(model, t, v) for v in points]
+    evaluator = linear_evaluator(model, t, values, free=(speed_parameter,))
+    if evaluator is not None:
+        (M, C0, K0), (_, C1, K1) = ([A.toarray() for A in evaluator(**{speed_parameter: w})] for w in (w0, w0 + dw))
+        G, H = (C1 - C0) / dw, (K1 - K0) / dw
+        C, K = C0 - w0 * G, K0 - w0 * H
+    else:
+        target = system if model is system.model else model.compile(backend=system.backend)
+        samples = DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples
+        n = len(target.coordinate_names)
+        blocks = []
+        for w in (w0, w0 + dw):
+            point = target.with_parameters(**{speed_parameter: float(w)})
+            A = averaged_jacobian(point, t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=False,
+                                  cage_samples=samples, eps=None, method=method)[0]
+            blocks.append((-A[n:, :n], -A[n:, n:]))
+        M = _mass_matrix(target)
+        (K0, C0), (K1, C1) = blocks
+        G, H = M @ (C1 - C0) / dw, M @ (K1 - K0) / dw
+        C, K = M @ C0 - w0 * G, M @ K0 - w0 * H
     rotor_speeds = {}
     for r in spins[0]:
         ratio = (spins[1][r] - spins[0][r]) / dw
         rotor_speeds[r] = (spins[0][r] - ratio * w0, ratio)
-    station_rotors = {}
-    for s in system.model.stations:
-        station_rotors[str(s)] = system.model.rotor_of(s).name
-    positions = getattr(system.model, "station_positions", None)
+    names = tuple(model.coordinate_names)
+    bending = {p[0] for p in station_pairs(names)}
     return LinearModel(
-        mass=M, damping=M @ (C0 - w0 * G), stiffness=M @ (K0 - w0 * H), gyroscopic=M @ G, circulatory=M @ H,
-        coordinate_names=tuple(system.coordinate_names), rotor_speeds=rotor_speeds,
-        station_rotors={s: r for s, r in station_rotors.items() if s in {p[0] for p in station_pairs(system.coordinate_names)}},
-        station_positions=dict(positions) if isinstance(positions, dict) else None,
-        speed_parameter=speed_parameter,
+        mass=M, damping=C, stiffness=K, gyroscopic=G, circulatory=H, coordinate_names=names,
+        rotor_speeds=rotor_speeds,
+        station_rotors={str(s): model.rotor_of(s).name for s in model.stations if str(s) in bending},
+        station_positions=station_positions(model), speed_parameter=speed_parameter,
     )

@@ -101,28 +101,21 @@ def _coordinate_jacobian(system, t, q, steps):
     return J
 
 
-def _rotor_speeds(system):
-    """Rotor name -> spin speed (rad/s) from the system's parameters."""
-    values = system.parameters
-    rotors = system.model.rotors
-    out = {}
-    for name in rotors:
-        factor, r = 1.0, rotors[name]
-        while r.speed is None:
-            factor *= values[f"{r.name}_speed_ratio"]
-            r = rotors[r.reference]
-        out[name] = factor * values[f"{r.name}_speed"]
-    return out
+def _rotor_speeds(system, t=0.0):
+    """Rotor name -> spin speed (rad/s) at time ``t`` (a speed profile evaluated there)."""
+    from .linear_matrices import rotor_spin_speeds
+
+    return rotor_spin_speeds(system.model, t, system.parameters)
 
 
-def _ball_pass_period(system):
-    """Longest ball-passing period (s) of the model's ball bearings, or None if no cage turns."""
+def _ball_pass_period(system, t=0.0):
+    """Longest ball-passing period (s) of the model's ball bearings at time ``t``, or None if no cage turns."""
     from ..elements import BallBearing
 
     bearings = [e for e in system.model.elements if isinstance(e, BallBearing)]
     if not bearings:
         return None
-    speeds = _rotor_speeds(system)
+    speeds = _rotor_speeds(system, t)
     values = system.parameters
     periods = []
     for b in bearings:
@@ -138,7 +131,7 @@ def _ball_pass_period(system):
 
 def _sample_times(system, t, count):
     """``count`` times over one ball-passing period from ``t``, on ``t``'s side of any time event."""
-    period = _ball_pass_period(system)
+    period = _ball_pass_period(system, t)
     if period is None or count == 1:
         return np.array([t])
     events = [e for e in system.time_events if np.isfinite(e)]

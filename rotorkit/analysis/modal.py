@@ -34,9 +34,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .whirl import BACKWARD, FORWARD, LINEAR, mode_whirl, orbit, station_pairs, whirl_direction
+from .whirl import orbit, shape_whirl, slope_orbit, station_pairs, tilt_pairs
 
-__all__ = ["Modes", "modes_from_state_matrix"]
+__all__ = ["Modes", "modes_from_matrices", "modes_from_state_matrix"]
 
 #: A pair is oscillatory when Im(lambda) exceeds this fraction of |lambda|.
 OSCILLATORY_RTOL = 1e-9
@@ -165,21 +165,31 @@ class Modes:
         v = self.shapes[:, i]
         return {s: orbit(v[ix], v[iy]) for s, ix, iy in station_pairs(self.coordinate_names)}
 
+    def slope_orbits(self, mode):
+        """Station -> :class:`~rotorkit.analysis.whirl.Orbit` of the shaft slope ``(thy, -thx)`` (tilting stations)."""
+        i = self._index(mode)
+        v = self.shapes[:, i]
+        return {s: slope_orbit(v[a], v[b]) for s, a, b in tilt_pairs(self.coordinate_names)}
+
     def station_whirl(self, mode):
-        """Station -> ``"forward"``, ``"backward"`` or ``"linear"`` for ``mode`` (1-based)."""
-        return {s: o.direction for s, o in self.orbits(mode).items()}
+        """Station -> ``"forward"``, ``"backward"`` or ``"linear"`` for ``mode`` (1-based).
+
+        The whirl of the station's displacement orbit, or of its slope orbit
+        where the station only tilts (see :func:`~rotorkit.analysis.whirl.shape_whirl`).
+        """
+        i = self._index(mode)
+        stations = shape_whirl(self.shapes[:, [i]], self.coordinate_names, self.station_positions)[1]
+        return {s: str(kinds[0]) for s, kinds in stations.items()}
 
     @property
     def whirl(self):
         """Per mode: ``"forward"``, ``"backward"``, ``"mixed"`` or ``"linear"`` (no bending motion).
 
-        Stations whose orbit is below 1 % of the mode's largest are ignored.
+        Displacement orbits and slope orbits (tilting stations, weighed by
+        the span of the station positions) below 1 % of the mode's largest
+        are ignored (:func:`~rotorkit.analysis.whirl.shape_whirl`).
         """
-        out = []
-        for mode in range(1, len(self) + 1):
-            orbits = self.orbits(mode)
-            out.append(mode_whirl([o.direction for o in orbits.values()], [o.major for o in orbits.values()]))
-        return tuple(out)
+        return shape_whirl(self.shapes, self.coordinate_names, self.station_positions)[0]
 
     def table(self, units="rad/s"):
         """A plain-text table: frequency, damping ratio, log decrement, whirl, dominant coordinates.
@@ -289,11 +299,63 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     else:
         eigenvalues, vr = np.linalg.eig(A)
         wl = None
+    Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
+    Y = None
+    if wl is not None:  # the lower half of a left state vector is M^H y (y: left coordinate vector)
+        Y = np.linalg.solve(Mm.conj().T, wl[n:]) if mass is not None else wl[n:]
+    return _modes(eigenvalues, vr[:n], Y, names, Mm, Mm @ -A[n:, n:], fields)
+
+
+def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=None, **fields):
+    """:class:`Modes` of ``M q'' + C q' + K q = 0`` from its matrices.
+
+    Parameters
+    ----------
+    mass, damping, stiffness : numpy.ndarray or scipy sparse matrix, shape (n, n)
+        ``M``, ``C`` (damping plus speed-scaled gyroscopics) and ``K``
+        (cross-coupled and circulatory parts included), SI units.
+    names : tuple of str, length n
+    left : bool
+        Compute the left shapes too.
+    n_modes : int, optional
+        Only the ``n_modes`` modes of smallest ``|lambda|``. For large models
+        (``2 n > 4 n_modes + 20``) they are found by shift-invert Arnoldi
+        iteration (:func:`scipy.sparse.linalg.eigs`) on the pencil of the
+        first-order form, each step one sparse LU solve with
+        ``K + s C + s^2 M`` (``n x n``, factored once; the dense
+        ``M^-1 K`` is never formed), so the cost grows with the bandwidth,
+        not with ``n^3``. Otherwise, and when the iteration fails, all modes
+        come from the dense eigen-solution of the state matrix.
+    **fields
+        Further :class:`Modes` fields.
+    """
+    n = len(names)
+    dense = [np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
+             for A in (mass, damping, stiffness)]
+    if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
+        solved = _lowest_pencil_eigenpairs(mass, damping, stiffness, int(n_modes), left)
+        if solved is not None:
+            eigenvalues, X, Y = solved
+            return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields)
+    from scipy.linalg import lu_factor, lu_solve
+
+    M, C, K = dense
+    lu = lu_factor(M)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -lu_solve(lu, K)
+    A[n:, n:] = -lu_solve(lu, C)
+    return modes_from_state_matrix(A, names, mass=M, left=left, **fields)
+
+
+def _modes(eigenvalues, X, Y, names, M, C, fields):
+    """:class:`Modes` from eigenvalues with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``."""
+    n = len(names)
     keep = eigenvalues.imag > OSCILLATORY_RTOL * np.abs(eigenvalues)
     lam = eigenvalues[keep]
     order = np.argsort(np.abs(lam), kind="stable")
     lam = lam[order]
-    vec = vr[:n][:, keep][:, order].copy()
+    vec = X[:, keep][:, order].copy()
     vec = _circularise_pairs(lam, vec, names)
     k = lam.size
     shapes = np.empty((n, k), dtype=complex)
@@ -301,19 +363,15 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
         v = vec[:, i]
         shapes[:, i] = v / v[int(np.argmax(np.abs(v)))]
     left_shapes = None
-    if wl is not None:
-        C = -A[n:, n:]
-        Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
-        W = wl[n:][:, keep][:, order]
-        Y = np.linalg.solve(Mm.conj().T, W) if mass is not None else W.copy()
-        Cm = Mm @ C
+    if Y is not None:
+        Y = Y[:, keep][:, order]
         left_shapes = np.empty((n, k), dtype=complex)
         i = 0
         while i < k:
-            N = 2.0 * lam[i] * Mm + Cm
+            N = 2.0 * lam[i] * M + C
             width = 2 if i + 1 < k and abs(lam[i + 1] - lam[i]) <= DOUBLE_RTOL * abs(lam[i]) else 1
-            X, Yi = shapes[:, i:i + width], Y[:, i:i + width]
-            P = Yi.conj().T @ N @ X  # bi-orthonormalise within a double root's eigenspace
+            Xi, Yi = shapes[:, i:i + width], Y[:, i:i + width]
+            P = Yi.conj().T @ N @ Xi  # bi-orthonormalise within a double root's eigenspace
             try:
                 left_shapes[:, i:i + width] = Yi @ np.linalg.inv(P).conj().T
             except np.linalg.LinAlgError:
@@ -321,6 +379,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
             i += width
     frequencies = np.abs(lam)
     damping = -lam.real / frequencies if k else np.empty(0)
+    fields = dict(fields)
     fields.setdefault("frequency_range", np.column_stack([frequencies, frequencies]) if k else np.empty((0, 2)))
     fields.setdefault("sample_times", np.array([0.0]))
     fields.setdefault("operating_point", np.zeros(n))
@@ -334,7 +393,6 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
         left_shapes=None if left_shapes is None else _readonly(left_shapes),
         **{key: (_readonly(v) if isinstance(v, np.ndarray) else v) for key, v in fields.items()},
     )
-
 
 
 def _lowest_eigenpairs(A, n_modes, left):
@@ -351,5 +409,82 @@ def _lowest_eigenpairs(A, n_modes, left):
         wl = np.empty_like(vr)
         for i, value in enumerate(lam):  # left vector of lambda: eigenvector of A^T for lambda, conjugated
             wl[:, i] = np.conj(wv[:, int(np.argmin(np.abs(mu - value)))])
-    # keep whole pairs: drop an eigenvalue whose conjugate was not found
     return lam, vr, wl
+
+
+def _pencil_operator(M, C, K):
+    """``(op, shift)``: ``z -> (A - s B)^-1 B z`` for ``A = [[0, I], [-K, -C]]``, ``B = diag(I, M)``.
+
+    Eigenvalues ``mu`` of the operator give ``lambda = s + 1 / mu`` with the
+    same eigenvectors ``[x, lambda x]``. The shift ``s`` is 0 unless ``K``
+    is singular (a free rigid-body coordinate), then a small negative number.
+    """
+    from scipy import sparse
+    from scipy.sparse.linalg import LinearOperator, splu
+
+    n = M.shape[0]
+    M, C, K = (sparse.csc_matrix(A) for A in (M, C, K))
+    scale = math.sqrt(max(abs(K.diagonal()).max(), 1e-300) / max(abs(M.diagonal()).max(), 1e-300))
+    for shift in (0.0, -1e-3 * scale, -1e-1 * scale):
+        try:
+            with np.errstate(all="ignore"):
+                lu = splu((K + shift * C + shift * shift * M).tocsc())
+        except RuntimeError:  # exactly singular
+            continue
+        if np.all(np.isfinite(lu.U.diagonal())) and np.min(np.abs(lu.U.diagonal())) > 1e-13 * np.max(
+                np.abs(lu.U.diagonal())):
+            break
+    else:
+        return None
+    CsM = (C + shift * M).tocsr()
+    M = M.tocsr()
+
+    def matvec(z):
+        z = np.asarray(z).reshape(-1)
+        a, b = z[:n], M @ z[n:]
+        u = lu.solve(np.asarray(-b - CsM @ a))
+        return np.concatenate([u, a + shift * u])
+
+    dtype = np.result_type(M.dtype, C.dtype, K.dtype)
+    return LinearOperator((2 * n, 2 * n), matvec=matvec, dtype=dtype), shift
+
+
+def _lowest_pencil_eigenpairs(M, C, K, n_modes, left):
+    """``(eigenvalues, X, Y)`` of the ``2 n_modes + 4`` smallest ``|lambda|``, or None if the iteration fails.
+
+    ``X`` holds right coordinate vectors, ``Y`` left ones (``y^H (lambda^2 M
+    + lambda C + K) = 0``: right vectors of the transposed problem, conjugated).
+    """
+    from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, eigs
+
+    n = M.shape[0]
+    k = min(2 * n_modes + 4, 2 * n - 2)
+
+    def solve(M, C, K):
+        built = _pencil_operator(M, C, K)
+        if built is None:
+            return None
+        op, shift = built
+        for ncv in (None, min(2 * n, 4 * k + 20)):
+            try:
+                mu, z = eigs(op, k=k, which="LM", ncv=ncv, maxiter=20 * 2 * n)
+            except (ArpackNoConvergence, ArpackError):
+                continue
+            with np.errstate(divide="ignore"):
+                return shift + 1.0 / mu, z[:n]
+        return None
+
+    right = solve(M, C, K)
+    if right is None:
+        return None
+    lam, X = right
+    Y = None
+    if left:
+        transposed = solve(M.T, C.T, K.T)
+        if transposed is None:
+            return None
+        mu, Z = transposed
+        Y = np.empty_like(X)
+        for i, value in enumerate(lam):
+            Y[:, i] = np.conj(Z[:, int(np.argmin(np.abs(mu - value)))])
+    return lam, X, Y

@@ -12,16 +12,27 @@ axis ``|F| + |B|``, semi-minor axis ``||F| - |B||`` and its major axis at
 the angle ``(arg F + arg B) / 2`` from x. The whirl is forward when
 ``|F| > |B|``, backward when ``|B| > |F|`` and a straight line when they are
 equal.
+
+A station that tilts (``thx<s>``, ``thy<s>``: beam nodes, gyroscopic
+disks) also whirls in its slope: the shaft axis there points along
+``(dx/dz, dy/dz) = (thy, -thx)``, an orbit like the displacement one
+(:func:`tilt_pairs`). It is what shows the whirl of a station that only
+tilts (a disk at the node of a conical mode). The whirl of a mode counts
+the displacement orbits and the slope orbits times a reference length
+(the span of the station positions, else 1 m) together; the ones below
+:data:`SIGNIFICANT` of the largest are ignored.
 """
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "FORWARD", "BACKWARD", "MIXED", "LINEAR"]
+__all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "tilt_pairs", "shape_whirl", "FORWARD", "BACKWARD",
+           "MIXED", "LINEAR"]
 
 FORWARD, BACKWARD, MIXED, LINEAR = "forward", "backward", "mixed", "linear"
 #: |F| and |B| within this relative margin: a straight-line (planar) orbit
@@ -87,24 +98,86 @@ def whirl_direction(forward, backward, rtol=LINEAR_RTOL):
     return str(out) if out.ndim == 0 else out
 
 
-def mode_whirl(directions, sizes):
-    """One mode's whirl from its stations' directions and orbit sizes."""
-    sizes = np.asarray(sizes, dtype=float)
-    if sizes.size == 0 or not np.any(sizes > 0):
-        return LINEAR
-    keep = sizes >= SIGNIFICANT * sizes.max()
-    kinds = {d for d, k in zip(directions, keep) if k and d != LINEAR}
-    if not kinds:
-        return LINEAR
-    return kinds.pop() if len(kinds) == 1 else MIXED
-
-
 def station_pairs(names):
     """``[(station, i_x, i_y)]`` of the stations with both an ``x<s>`` and a ``y<s>`` coordinate, in order."""
+    return list(_axis_pairs(tuple(names), "x", "y"))
+
+
+def tilt_pairs(names):
+    """``[(station, i_thx, i_thy)]`` of the stations with both tilts ``thx<s>`` and ``thy<s>``, in order."""
+    return list(_axis_pairs(tuple(names), "thx", "thy"))
+
+
+@functools.lru_cache(maxsize=64)
+def _axis_pairs(names, first, second):
     index = {name: i for i, name in enumerate(names)}
+    pattern = re.compile(rf"{first}(.+)")
     out = []
     for name in names:
-        m = re.fullmatch(r"x(.+)", name)
-        if m and f"y{m.group(1)}" in index:
-            out.append((m.group(1), index[name], index[f"y{m.group(1)}"]))
-    return out
+        m = pattern.fullmatch(name)
+        if m and f"{second}{m.group(1)}" in index:
+            out.append((m.group(1), index[name], index[f"{second}{m.group(1)}"]))
+    return tuple(out)
+
+
+def slope_orbit(thx, thy):
+    """The :class:`Orbit` of the shaft slope ``(dx/dz, dy/dz) = (thy, -thx)`` from tilt amplitudes (rad)."""
+    return orbit(np.asarray(thy, dtype=complex), -np.asarray(thx, dtype=complex))
+
+
+def shape_whirl(shapes, names, positions=None):
+    """Whirl of each mode and of each station, from mode shapes.
+
+    Parameters
+    ----------
+    shapes : numpy.ndarray of complex, shape (n, k)
+        Mode shapes (columns), coordinates in ``names`` order.
+    names : tuple of str, length n
+    positions : dict, optional
+        Station -> axial position (m); their span is the reference length
+        that weighs slopes against displacements (default 1 m).
+
+    Returns
+    -------
+    modes : tuple of str, length k
+        ``"forward"``, ``"backward"``, ``"mixed"`` or ``"linear"``.
+    stations : dict of str to numpy.ndarray of str, shape (k,)
+        Station -> the whirl of its displacement orbit in each mode, or of
+        its slope orbit where the displacement is insignificant and the
+        slope is not.
+    """
+    shapes = np.asarray(shapes, dtype=complex)
+    k = shapes.shape[1]
+    pairs, tilts = station_pairs(names), tilt_pairs(names)
+    length = 1.0
+    if positions:
+        span = max(positions.values()) - min(positions.values())
+        length = span if span > 0 else 1.0
+    kinds, sizes, owners = [], [], []
+    for group, scale, make in ((pairs, 1.0, orbit), (tilts, length, slope_orbit)):
+        if group:
+            i1 = np.array([p[1] for p in group])
+            i2 = np.array([p[2] for p in group])
+            o = make(shapes[i1], shapes[i2])
+            kinds.append(np.atleast_2d(whirl_direction(o.forward, o.backward)))
+            sizes.append(o.major * scale)
+            owners.append([p[0] for p in group])
+        else:
+            kinds.append(np.empty((0, k), dtype="<U8"))
+            sizes.append(np.empty((0, k)))
+            owners.append([])
+    allsize = np.vstack(sizes) if k else np.empty((0, 0))
+    allkind = np.vstack(kinds) if k else np.empty((0, 0), dtype="<U8")
+    largest = allsize.max(axis=0) if allsize.size else np.zeros(k)
+    significant = (allsize >= SIGNIFICANT * largest) & (allsize > 0) & (allkind != LINEAR)
+    fwd = np.any(significant & (allkind == FORWARD), axis=0)
+    bwd = np.any(significant & (allkind == BACKWARD), axis=0)
+    modes = tuple(MIXED if f and b else FORWARD if f else BACKWARD if b else LINEAR for f, b in zip(fwd, bwd))
+    stations = {s: kinds[0][i] for i, s in enumerate(owners[0])}
+    n_disp = len(owners[0])
+    for j, s in enumerate(owners[1]):
+        if s not in stations:
+            continue
+        use_tilt = ~significant[owners[0].index(s)] & significant[n_disp + j]
+        stations[s] = np.where(use_tilt, kinds[1][j], stations[s])
+    return modes, stations
