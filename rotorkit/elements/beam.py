@@ -334,10 +334,10 @@ class BeamSegment(Element):
             stiffness = sp.Matrix(sp.BlockMatrix([[K, Z], [Z, Ky]]))
             gyro = None
             if self.gyroscopic:
-                # T_g = Omega rho I_p int thx' thy dz, thx = -beta_y = N_beta (sign q_y), thy = N_beta q_x
-                # -> u_y^T (Omega rho I_p sign Mr) q_x: rows of the y-plane, columns of the x-plane
+                # T_g = Omega rho I_p int thx' thy dz, beta_y = N_beta (sign q_y) so thx = -N_beta (sign q_y),
+                # thy = N_beta q_x -> -u_y^T (Omega rho I_p sign Mr) q_x: rows of the y-plane, columns of x
                 gyro = sp.zeros(8, 8)
-                gyro[4:, :4] = spin * 2 * rhoI * (sign * Mr)
+                gyro[4:, :4] = -spin * 2 * rhoI * (sign * Mr)
             forms.append(QuadraticForm(coordinates=coords, speeds=speeds, mass=mass, stiffness=stiffness,
                                        gyroscopic=gyro))
             if self.torsion:
