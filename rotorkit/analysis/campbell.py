@@ -200,18 +200,16 @@ def _resolve_system(source, backend):
         source = preset(source)
     elif callable(source) and not hasattr(source, "rhs") and not hasattr(source, "compile"):
         source = source()
-    if hasattr(source, "rhs"):
-        return source
-    if hasattr(source, "compile"):
-        return source.compile(backend=backend)
+    if hasattr(source, "rhs") or hasattr(source, "compile"):
+        return source  # a model is compiled only if it needs linearising (see _solver)
     raise TypeError(
         f"campbell: expected a LinearModel, a System, a Model, a preset name or a function returning one of "
         f"them, got {type(source).__name__}"
     )
 
 
-def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, speeds=None):
-    """(modes_at(speed), spins_at(speed), parameter name) for a LinearModel or a System."""
+def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, speeds=None, backend="auto"):
+    """(modes_at(speed), spins_at(speed), parameter name) for a LinearModel, a System or a Model."""
     from .linear_model import LinearModel, frozen_system, linear_model
 
     def sparse_count(n):
@@ -242,7 +240,9 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
                                        station_positions=positions)
 
         return modes_at, spins_at, speed_parameter
-    system = target if model is target.model else model.compile(backend=target.backend)
+    source = getattr(target, "model", target)
+    system = target if model is source and hasattr(target, "rhs") else model.compile(
+        backend=getattr(target, "backend", backend))
     if not relinearize:  # contacts, Hertzian bearings: one linear model about the middle of the range
         middle = 0.5 * (float(speeds[0]) + float(speeds[-1]))
         linear = linear_model(system, speed_parameter=speed_parameter, speed=middle,
@@ -370,7 +370,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
                    cage_samples=DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples, method=method)
     if not isinstance(relinearize, bool):
         raise ParameterError(f"relinearize={relinearize!r} is invalid: expected True or False")
-    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options, n_modes, relinearize, w)
+    modes_at, spins_at, speed_parameter = _solver(target, speed_parameter, options, n_modes, relinearize, w, backend)
 
     count = int(n_modes)
     shape = (w.size, count)

@@ -230,7 +230,7 @@ def _speed_parameters(model):
 
 
 def frozen_system(system, speed_parameter=None, speed=None, t=0.0, who="linear_model"):
-    """``(model, speed_parameter)``: the system's model with speed profiles frozen at ``t``, and the swept speed.
+    """``(model, speed_parameter)``: the model of a system (or a model) with speed profiles frozen at ``t``.
 
     A rotor with a :class:`~rotorkit.elements.speed.SpeedProfile` spins at
     its speed at ``t`` (``speed`` instead, if it is the swept rotor), so that
@@ -238,11 +238,11 @@ def frozen_system(system, speed_parameter=None, speed=None, t=0.0, who="linear_m
     """
     from .linear_matrices import frozen_speed_model
 
-    model = system.model
+    model = getattr(system, "model", system)
     available = _speed_parameters(model)
     if speed_parameter is None:
         if not available:
-            raise ParameterError(f"{who}: {system.name!r} has no rotor with its own speed to sweep")
+            raise ParameterError(f"{who}: {model.name!r} has no rotor with its own speed to sweep")
         speed_parameter = available[0]
     if speed_parameter not in available:
         raise ParameterError(f"{who}: speed_parameter={speed_parameter!r} is not a rotor speed: expected one of "

@@ -3,10 +3,11 @@
 :func:`static_deflection` solves the static equilibrium of a compiled
 system at a time ``t`` (:func:`~rotorkit.analysis.linearize.static_equilibrium`:
 gravity, a manoeuvre's load at ``t``, bearings and contacts as they are)
-and evaluates, element by element, the force each support-type element
-(supports, bearings, contacts: every element that is not a rotor, a mass, a
-disk, a shaft or beam, or the load field) exerts on the rotor there:
-``-dV_e/dq + Q_e`` at zero velocity, from the element's own energy terms.
+and evaluates, element by element, the force each element that holds the
+rotor exerts on it there: ``-dV_e/dq + Q_e`` at zero velocity, from the
+element's own energy terms. Which elements hold the rotor is read from the
+element contract (:func:`holds_rotor`: what an element grounds or links
+across rotors, and contacts), not from class names.
 """
 
 from __future__ import annotations
@@ -18,15 +19,31 @@ import numpy as np
 from .linearize import _check_system, static_equilibrium
 from .whirl import station_pairs
 
-__all__ = ["StaticDeflection", "static_deflection"]
+__all__ = ["StaticDeflection", "static_deflection", "holds_rotor"]
 
-#: element classes that carry the rotor rather than hold it: no reaction is reported for them
-_STRUCTURAL = ("Rotor", "Disk", "LumpedMass", "ShaftSegment", "Maneuver")
+def holds_rotor(element, model):
+    """Whether ``element`` carries load from the rotor to the ground or to another rotor (element contract).
 
-
-def _is_structural(element):
-    name = type(element).__name__
-    return name in _STRUCTURAL or any(key in name for key in ("Beam", "Shaft", "Disk", "Mass", "Material"))
+    True when it declares coordinates it ties to the ground
+    (:meth:`~rotorkit.elements.base.Element.grounds`: supports, bearings),
+    when one of its :meth:`~rotorkit.elements.base.Element.stiffness_links`
+    joins stations of different rotors (inter-shaft and casing bearings) or
+    a coordinate the model does not have (a prescribed motion, the ground),
+    or when it brings a contact (``"rub"`` in its
+    :meth:`~rotorkit.elements.base.Element.effects`). Shafts, beams, disks
+    and load fields declare none of these.
+    """
+    if element.grounds():
+        return True
+    if "rub" in element.effects():
+        return True
+    for group in element.stiffness_links():
+        stations = {station for station, _ in group}
+        if any(not model.has_coordinate(station, axis) for station, axis in group):
+            return True
+        if len({model.rotor_of(station).name for station in stations}) > 1:
+            return True
+    return False
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,7 +162,7 @@ def static_deflection(system, t=0.0, **equilibrium):
     values[symbols.t] = sp.Float(float(t))
     reactions = {}
     for element in model.elements:
-        if _is_structural(element):
+        if not holds_rotor(element, model):
             continue
         terms = element.contribute(ctx.bind(element))
         V = sp.sympify(terms.potential)
