@@ -3,6 +3,11 @@ an unbalance response over 1,000 speeds. Medians of repeated timings, measured i
 
 Run: ``python bench/bench_linear.py`` (``--repeat N``, default 5).
 
+A last block times a Campbell diagram of a compiled finite-element system
+(the two-disk rotor of ``examples/two_disk_rotor.py``): its matrices
+evaluated from the derived symbolic ones at each speed, against
+re-linearising the system at each speed (``relinearize=True``).
+
 The rotor: a steel shaft (d = 50 mm, 1.5 m) of 99 Euler-Bernoulli beam
 elements (consistent mass, four coordinates per node: x, y, tilt about x,
 tilt about y), two disks with their gyroscopic coupling, two bearings of
@@ -85,6 +90,7 @@ def median_time(fn, repeat):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--skip-system", action="store_true", help="skip the compiled two-disk rotor rows")
     args = parser.parse_args()
     model = beam_rotor()
     print(f"beam rotor: {model.n} coordinates; medians of {args.repeat} runs (shared, loaded machine)")
@@ -108,6 +114,24 @@ def main():
     print(f"ratios: dense/sparse modes {results[1] / results[0]:.1f}, "
           f"dense/banded unbalance {results[4] / results[3]:.1f}")
     print("targets (issue 9): modal < 0.1 s, Campbell < 5 s, unbalance < 1 s")
+    if not args.skip_system:
+        system_rows(args.repeat)
+
+
+def system_rows(repeat):
+    """Campbell of a compiled FE system: matrices from the symbolic ones per speed vs re-linearising per speed."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+    from two_disk_rotor import two_disk_rotor
+
+    system = two_disk_rotor(speed=0.0).compile()
+    speeds = np.linspace(0.0, 450.0, 41)
+    campbell(system, speeds[:2], n_modes=6)  # build the matrix evaluator once, outside the timing
+    fast = median_time(lambda: campbell(system, speeds, n_modes=6), repeat)
+    slow = median_time(lambda: campbell(system, speeds, n_modes=6, relinearize=True), max(1, repeat // 3))
+    print(f"two-disk FE rotor ({len(system.coordinate_names)} coordinates), Campbell over {speeds.size} speeds:")
+    print(f"  {'symbolic matrices evaluated per speed':<58} {fast:9.4f} s")
+    print(f"  {'re-linearised per speed (relinearize=True)':<58} {slow:9.4f} s")
+    print(f"ratio: re-linearised/symbolic {slow / fast:.1f}")
 
 
 if __name__ == "__main__":

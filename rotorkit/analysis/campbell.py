@@ -32,6 +32,9 @@ from .modal import frequency_factor
 
 __all__ = ["Campbell", "CriticalSpeed", "InstabilityOnset", "campbell", "mac"]
 
+#: log decrements within this of zero at both ends of a grid interval are a neutral (undamped) mode
+NEUTRAL_LOG_DECREMENT = 1e-8
+
 
 def mac(a, b):
     """Modal assurance criterion matrix ``|a_i^H b_j|^2 / (|a_i|^2 |b_j|^2)`` of shape columns."""
@@ -455,6 +458,8 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         for j in range(w.size - 1):
             if not (np.isfinite(d[j]) and np.isfinite(d[j + 1])) or d[j] * d[j + 1] >= 0:
                 continue
+            if max(abs(d[j]), abs(d[j + 1])) < NEUTRAL_LOG_DECREMENT:
+                continue  # an undamped mode: rounding noise about zero, not an onset
 
             def g(s, value, k=k, j=j):
                 if value is None:

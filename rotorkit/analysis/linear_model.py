@@ -258,7 +258,8 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
 
     Parameters
     ----------
-    system : rotorkit.System
+    system : rotorkit.System or rotorkit.Model
+        A model is compiled only if its equations are not linear.
     speed_parameter : str, optional
         The swept rotor speed, ``<rotor>_speed`` (default: the first rotor's).
         A rotor whose speed is a :class:`~rotorkit.elements.speed.SpeedProfile`
@@ -289,7 +290,8 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
     from .linearize import _check_system
     from .modes import DEFAULT_CAGE_SAMPLES, averaged_jacobian
 
-    _check_system(system, "linear_model")
+    if not (hasattr(system, "compile") and hasattr(system, "equations")):
+        _check_system(system, "linear_model")
     model, speed_parameter = frozen_system(system, speed_parameter, speed, t)
     values = model.parameters
     w0 = values[speed_parameter] if speed is None else _speed(speed)
@@ -304,7 +306,9 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         G, H = (C1 - C0) / dw, (K1 - K0) / dw
         C, K = C0 - w0 * G, K0 - w0 * H
     else:
-        target = system if model is system.model else model.compile(backend=system.backend)
+        source = getattr(system, "model", system)
+        target = system if model is source and hasattr(system, "rhs") else model.compile(
+            backend=getattr(system, "backend", "auto"))
         samples = DEFAULT_CAGE_SAMPLES if cage_samples is None else cage_samples
         n = len(target.coordinate_names)
         blocks = []

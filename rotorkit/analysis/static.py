@@ -177,6 +177,7 @@ def static_deflection(system, t=0.0, **equilibrium):
                     forces[name] = value
         if forces:
             reactions[element.label()] = forces
-    positions = getattr(model, "station_positions", None)
+    from .linear_matrices import station_positions
+
     return StaticDeflection(deflection=dict(zip(names, (float(v) for v in q))), reactions=reactions, t=float(t),
-                            station_positions=dict(positions) if isinstance(positions, dict) else None)
+                            station_positions=station_positions(model))
