@@ -130,12 +130,12 @@ def plot_static_deflection(static, ax=None, *, length_units="um"):
     for axis, style in (("x", "-o"), ("y", "-s")):
         ax.plot(pos, [static.deflection[f"{axis}{s}"] * fl for s in stations], style, ms=4, label=axis)
     where = {f"{axis}{s}": (p, axis) for p, s in zip(pos, stations) for axis in "xy"}
-    for label, forces in static.reactions.items():  # each support's largest force on the rotor, at its station
+    for element, forces in static.reactions.items():  # each support's largest force on the rotor, at its station
         shown = [(abs(v), name, v) for name, v in forces.items() if name in where]
         if shown:
             _, name, value = max(shown)
             p, axis = where[name]
-            ax.annotate(f"{label}\nF{axis} = {value:.3g} N", (p, static.deflection[name] * fl), fontsize=6,
+            ax.annotate(f"{element}\nF{axis} = {value:.3g} N", (p, static.deflection[name] * fl), fontsize=6,
                         textcoords="offset points", xytext=(4, 6), color="0.3")
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.set_xlabel(label)
