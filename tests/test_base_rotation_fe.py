@@ -19,41 +19,17 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-
 import numpy as np
 import pytest
 import sympy as sp
 
 from rotorkit import Disk, ElasticSupport, Model, Rotor, TopologyError
 from rotorkit.elements import BaseRotation, BeamSegment, LinearBearing, Material, Pedestal
-from rotorkit.elements.base import Element, Terms
 from rotorkit.elements.base_motion import tilt_kinetic, tilt_loads
+from helpers import Clamp  # noqa: E402
 
 STEEL = Material.steel()
 E = STEEL.youngs_modulus
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class Clamp(Element):
-    """Test-local: a station tied to the ground in x, y and both tilts."""
-
-    station: int = None
-    stiffness: float = None
-    _units = {"stiffness": ("N/m", "positive")}
-
-    def attached_stations(self):
-        return (self.station,)
-
-    def requires(self):
-        return ((self.station, "thx"), (self.station, "thy"))
-
-    def grounds(self):
-        return ((self.station, "x"), (self.station, "y")) + self.requires()
-
-    def contribute(self, ctx):
-        k = ctx.p["stiffness"]
-        return Terms(potential=k * sum(ctx.coord(self.station, a)[0] ** 2 for a in ("x", "y", "thx", "thy")) / 2)
 
 
 def static(model, t=0.0):

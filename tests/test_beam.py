@@ -34,32 +34,11 @@ from rotorkit.elements import BeamSegment, Material
 from rotorkit.elements.base import Element, Terms
 from rotorkit.elements.beam import cowper_shear_coefficient, plane_template
 from rotorkit.errors import ParameterError, TopologyError
+from helpers import Clamp  # noqa: E402
 
 STEEL = Material.steel()
 E, G, RHO = STEEL.youngs_modulus, STEEL.shear_modulus, STEEL.density
 PIN = 1e13  # N/m: a pinned support
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class Clamp(Element):
-    """Test-local: a station tied to the ground in x, y and both tilts."""
-
-    station: int = None
-    stiffness: float = None
-    _units = {"stiffness": ("N/m", "positive")}
-
-    def attached_stations(self):
-        return (self.station,)
-
-    def requires(self):
-        return ((self.station, "thx"), (self.station, "thy"))
-
-    def grounds(self):
-        return ((self.station, "x"), (self.station, "y")) + self.requires()
-
-    def contribute(self, ctx):
-        k = ctx.p["stiffness"]
-        return Terms(potential=k * sum(ctx.coord(self.station, a)[0] ** 2 for a in ("x", "y", "thx", "thy")) / 2)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

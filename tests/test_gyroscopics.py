@@ -15,38 +15,14 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import sympy as sp
 
 from rotorkit import Disk, Model, Rotor, simulate
 from rotorkit.elements import BeamSegment, LinearBearing, Material, SpeedProfile
-from rotorkit.elements.base import Element, Terms
+from helpers import Clamp  # noqa: E402
 
 STEEL = Material.steel()
-
-
-@dataclass(frozen=True, slots=True, kw_only=True)
-class Clamp(Element):
-    """Test-local: a station tied to the ground in x, y and both tilts."""
-
-    station: int = None
-    stiffness: float = None
-    _units = {"stiffness": ("N/m", "positive")}
-
-    def attached_stations(self):
-        return (self.station,)
-
-    def requires(self):
-        return ((self.station, "thx"), (self.station, "thy"))
-
-    def grounds(self):
-        return ((self.station, "x"), (self.station, "y")) + self.requires()
-
-    def contribute(self, ctx):
-        k = ctx.p["stiffness"]
-        return Terms(potential=k * sum(ctx.coord(self.station, a)[0] ** 2 for a in ("x", "y", "thx", "thy")) / 2)
 
 
 def ramp():
