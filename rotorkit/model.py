@@ -351,11 +351,11 @@ class Model:
 
         return save_model(self, path, **options)
 
-    def compile(self, backend="auto"):
-        """Compile into a numeric :class:`~rotorkit.system.System` (see there)."""
+    def compile(self, backend="auto", codegen="auto"):
+        """Compile into a numeric :class:`~rotorkit.system.System` (see :func:`~rotorkit.system.compile_model`)."""
         from .system import compile_model
 
-        return compile_model(self, backend=backend)
+        return compile_model(self, backend=backend, codegen=codegen)
 
     def _repr_html_(self):
         """Jupyter display: elements and parameters as tables."""

@@ -70,7 +70,12 @@ class System:
         p = np.array([self._values[n] for n in self.parameter_names], dtype=float)
         with np.errstate(all="ignore"):
             prepared = module.prepare(p, np.empty(module.N_PREPARED))
-        bad = np.flatnonzero(~np.isfinite(prepared[:-2]))
+        bad = np.flatnonzero(~np.isfinite(prepared[: len(p) + module.N_DERIVED]))
+        if not bad.size and not np.all(np.isfinite(prepared[:-2])):  # structured code: M0 and its inverse
+            raise ParameterError(
+                f"{self.name}: the parameters give a constant mass matrix that is not finite and positive definite "
+                "(a mass, density or length zero or negative?)"
+            )
         if bad.size:
             culprits = sorted({n for k in bad - len(p) for n in module.DERIVED_PARAMETERS[k]})
             raise ParameterError(
@@ -203,7 +208,7 @@ def _numba_function(module, name):
     return func
 
 
-def compile_model(model, backend="auto"):
+def compile_model(model, backend="auto", codegen="auto"):
     """Derive (once per structure), generate and load the RHS of ``model``.
 
     The generated module is cached on disk by the model's structure
@@ -215,6 +220,11 @@ def compile_model(model, backend="auto"):
     backend : {"auto", "python", "numba"}
         ``auto`` picks numba when it is installed (``$ROTORKIT_BACKEND``
         overrides).
+    codegen : {"auto", "unrolled", "structured"}
+        How the right-hand side is generated (:func:`rotorkit.codegen.generate.generate`):
+        ``auto`` (``$ROTORKIT_CODEGEN`` overrides) unrolls small models and
+        gives large ones matrices for the linear part. Both give the same
+        numbers (to rounding); each is cached on its own.
 
     Returns
     -------
@@ -222,8 +232,11 @@ def compile_model(model, backend="auto"):
     """
     from .codegen import cache
 
+    from .codegen.generate import codegen_mode
+
     backend = _resolve_backend(backend)
-    key = model.structure_key
+    mode = codegen_mode(len(model.coordinate_names), codegen)
+    key = model.structure_key + ("" if mode == "unrolled" else "_structured")
     module = _MODULES.get(key) or cache.load(key)
     if module is None:
         from .codegen.generate import generate
@@ -232,7 +245,7 @@ def compile_model(model, backend="auto"):
         eom = model.equations()
         with announce_if_slow(f"generating code for {model.name} (first use of this model structure; cached on disk "
                               "afterwards)"):
-            module = cache.store(key, generate(eom, key).source)
+            module = cache.store(key, generate(eom, key, mode=mode).source)
     _MODULES[key] = module
     if backend == "numba":
         core = _numba_function(module, "rhs")
