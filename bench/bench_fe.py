@@ -1,17 +1,39 @@
-"""Cold derive + compile time and RHS cost of beam finite-element rotors of 25, 50 and 100 nodes.
+"""Beam finite-element rotors: the full model against hand-written compiled code, cold derive + compile, codegen paths.
 
-    PYTHONPATH=. python bench/bench_fe.py [--nodes 25 50 100] [--backend python]
+    PYTHONPATH=. python bench/bench_fe.py                      # all sections, 25-node rotor, median of 3
+    PYTHONPATH=. python bench/bench_fe.py --nodes 25 --repeat 5 --sections run
+    PYTHONPATH=. python bench/bench_fe.py --sections cold --cold-nodes 25 100
+    PYTHONPATH=. python bench/bench_fe.py --sections codegen --codegen-nodes 4 6 8 10 13
 
-A uniform 50 mm steel shaft of 1.5 m in ``nodes - 1`` Timoshenko elements
-(4 coordinates per node), two disks and two orthotropic supports. For each
-size: derive time (sympy, from a cold process-level cache: the beam
-template is derived once per process and counted in the first size), code
-generation + compile time (into a fresh cache folder), and the cost of one
-RHS evaluation. Times are wall-clock on whatever machine runs it: quote the
-command with the numbers.
+The rotor (issue 14, benchmark 5): a uniform 50 mm steel shaft of 1.5 m in
+``nodes - 1`` Timoshenko elements (4 coordinates per node), two disks with
+unbalance at a third and two thirds of the length, two damped bearings at the
+ends, a rub stator around the first disk, spinning at 300 rad/s.
+
+Sections (each prints ratios measured in this run, and the load average):
+
+``run``     1 s at rtol 1e-6, atol 1e-9 from rest. (a) the generated
+            right-hand side and a hand-written compiled one (the same M, K,
+            C + gyroscopic matrices evaluated numerically, M^-1 precomputed,
+            dense loops; unbalance and contact law written by hand) each in
+            the same compiled Dormand-Prince loop (``integrate``), medians;
+            also the whole ``simulate()`` call. The hand-written right-hand
+            side is checked against rotorkit's before timing.
+``cold``    (c) derive + generate + numba compile of a rotor in a fresh
+            process with empty caches, per size.
+``codegen`` unrolled against structured code generation by size: generate +
+            numba compile time and one right-hand side inside the loop; the
+            ``auto`` threshold (``rotorkit.codegen.generate.STRUCTURED_FROM``)
+            comes from this table.
+
+Times are wall-clock on a shared machine: quote the command, the load
+average printed, and compare ratios measured in one run.
 """
 
 import argparse
+import os
+import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -19,53 +41,225 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+ROOT = Path(__file__).resolve().parents[1]
+SPEED = 300.0
+CLEARANCE = 1.0e-5
 
 
-def fe_rotor(nodes):
-    from two_disk_rotor import OrthotropicBearing
-
-    from rotorkit import Model, Rotor
+def fe_rotor(nodes, rub=True, name=None):
+    """The benchmark rotor: ``nodes`` beam nodes (4 coordinates each)."""
+    from rotorkit import ElasticSupport, Model, Rotor, RubStator
     from rotorkit.elements import BeamSegment, Disk, Material
 
     steel = Material.steel()
     stations = tuple(range(1, nodes + 1))
     length = 1.5 / (nodes - 1)
-    elements = [Rotor(name="R", stations=stations, speed=300.0)]
+    elements = [Rotor(name="R", stations=stations, speed=SPEED)]
     elements += [BeamSegment(start=s, end=s + 1, length=length, outer_diameter=0.05, material=steel)
                  for s in stations[:-1]]
-    for s in (stations[nodes // 3], stations[2 * nodes // 3]):
+    disks = (stations[nodes // 3], stations[2 * nodes // 3])
+    for s, phase in zip(disks, (0.0, 1.0)):
         elements.append(Disk.from_geometry(station=s, width=0.07, inner_diameter=0.05, outer_diameter=0.28,
-                                           material=steel, eccentricity=1e-5))
-    elements += [OrthotropicBearing(station=s, kxx=1e6, kyy=0.8e6) for s in (1, nodes)]
-    return Model(elements, name=f"fe{nodes}")
+                                           material=steel, eccentricity=2e-4, phase=phase))
+    elements += [ElasticSupport(station=s, stiffness=1e6, damping=200.0) for s in (stations[0], stations[-1])]
+    if rub:
+        elements.append(RubStator(station=disks[0], clearance=CLEARANCE, contact_stiffness=2e6,
+                                  friction_coefficient=0.1))
+    return Model(elements, name=name or f"fe{nodes}")
+
+
+def load():
+    return os.getloadavg()[0]
+
+
+def median_time(fn, repeat):
+    times, out = [], None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times), min(times), max(times), out
+
+
+# ---------------------------------------------------------------- hand-written reference
+def handwritten(model):
+    """(core, p, check) of the hand-written compiled right-hand side of ``model`` (its own matrices)."""
+    import numba
+    import sympy as sp
+
+    eom = model.equations()
+    n = eom.n
+    values = {sp.Symbol(k, real=True): v for k, v in model.parameters.items()}
+    num = lambda e: float(sp.sympify(e).xreplace(values))  # noqa: E731
+    M, K, C = np.zeros((n, n)), np.zeros((n, n)), np.zeros((n, n))
+    for A, mat in ((M, eom.mass_matrix), (K, eom.stiffness), (C, eom.damping)):
+        for (i, j), v in mat.todok().items():
+            A[i, j] = num(v)
+    # gyroscopic (and any other linear velocity/displacement) terms of every force but the rub's
+    u_index = {u: k for k, u in enumerate(eom.speeds)}
+    q_index = {q: k for k, q in enumerate(eom.coordinates)}
+    for label, vec in eom.forces.items():
+        if label.startswith("rub"):
+            continue
+        for (i, _), v in vec.todok().items():
+            for s in v.free_symbols:
+                if s in u_index:
+                    C[i, u_index[s]] -= num(sp.diff(v, s))
+                elif s in q_index:
+                    K[i, q_index[s]] -= num(sp.diff(v, s))
+    minv = np.linalg.inv(M)
+    names = model.coordinate_names
+    p = model.parameters
+    disks = [e for e in model.elements if type(e).__name__ == "Disk"]
+    unb = np.array([[names.index(f"x{d.station}"), names.index(f"y{d.station}"),
+                     p[f"{d.label()}_mass"] * p[f"{d.label()}_eccentricity"], p[f"{d.label()}_phase"]]
+                    for d in disks])
+    rub = next(e for e in model.elements if type(e).__name__ == "RubStator")
+    ix, iy = names.index(f"x{rub.station}"), names.index(f"y{rub.station}")
+    kr, delta, mu = (p[f"{rub.label()}_{f}"] for f in ("contact_stiffness", "clearance", "friction_coefficient"))
+    omega = p["R_speed"]
+    packed = np.concatenate([minv.ravel(), K.ravel(), C.ravel(), unb.ravel()])
+    n_unb = len(disks)
+
+    @numba.njit(cache=False)
+    def core(t, y, p, dydt):
+        nn = n * n
+        minv_, k_, c_ = p[:nn].reshape((n, n)), p[nn:2 * nn].reshape((n, n)), p[2 * nn:3 * nn].reshape((n, n))
+        f = -(np.dot(k_, y[:n]) + np.dot(c_, y[n:]))  # BLAS matrix-vector products
+        for d in range(n_unb):
+            base = 3 * nn + 4 * d
+            a = p[base + 2] * omega * omega
+            ph = omega * t + p[base + 3]
+            f[int(p[base])] += a * np.cos(ph)
+            f[int(p[base + 1])] += a * np.sin(ph)
+        x, yy = y[ix], y[iy]
+        r = np.sqrt(x * x + yy * yy)
+        if r > delta:
+            g = kr * (r - delta) / r
+            f[ix] -= g * (x - mu * yy)
+            f[iy] -= g * (mu * x + yy)
+        dydt[:n] = y[n:]
+        dydt[n:] = np.dot(minv_, f)
+
+    return core, packed
+
+
+def section_run(args):
+    import rotorkit as rk
+    from rotorkit.engines.rk_numba import integrate
+
+    model = fe_rotor(args.nodes)
+    system = model.compile(backend="numba")
+    n = len(model.coordinate_names)
+    core, packed = handwritten(model)
+    rng = np.random.default_rng(0)
+    for _ in range(5):  # same equations: the hand-written right-hand side against rotorkit's
+        y = rng.normal(size=2 * n) * np.r_[np.full(n, 3e-5), np.full(n, 1e-2)]
+        t = float(rng.uniform(0, 1))
+        ref = system.rhs(t, y)
+        hw = np.empty(2 * n)
+        core(t, y, packed, hw)
+        err = np.abs(hw - ref).max() / np.abs(ref).max()
+        assert err < 1e-9, f"hand-written right-hand side differs from rotorkit's by {err:.2e}"
+    t_eval = np.linspace(0.0, 1.0, 10_001)
+    y0 = np.zeros(2 * n)
+    p_gen = system.within(0.0, 1.0).prepared_parameters
+
+    def run(c, p):
+        sol = integrate(c, 0.0, 1.0, y0, p, t_eval, rtol=1e-6, atol=1e-9)
+        assert sol.success, sol.message
+        return sol
+
+    run(system.core, p_gen), run(core, packed)  # compile the loop for both
+    rows = {}
+    for label, fn in (("generated", lambda: run(system.core, p_gen)), ("hand-written", lambda: run(core, packed)),
+                      ("simulate()", lambda: rk.simulate(system, (0.0, 1.0), rtol=1e-6, atol=1e-9))):
+        rows[label] = median_time(fn, args.repeat)
+    gen, hand = rows["generated"][3], rows["hand-written"][3]
+    diff = np.abs(gen.y - hand.y).max() / np.abs(hand.y).max()
+    radius = np.hypot(hand.y[model.coordinate_names.index(f"x{model.elements[-1].station}")],
+                      hand.y[model.coordinate_names.index(f"y{model.elements[-1].station}")])
+    contact = radius > CLEARANCE
+    print(f"\n(a) {args.nodes}-node rotor ({n} coordinates, {system._module.CODEGEN} code), 1 s, rtol 1e-6, "
+          f"median of {args.repeat} (load {load():.1f}); in contact {contact.mean():.0%} of the samples, "
+          f"largest radius {radius.max() / CLEARANCE:.1f} x the clearance")
+    for label, (med, lo, hi, sol) in rows.items():
+        nfev = sol.nfev if hasattr(sol, "nfev") else sol.stats["nfev"]
+        print(f"   {label:13s} {med:7.3f} s  (min {lo:.3f}, max {hi:.3f})  {nfev:9d} evaluations  "
+              f"{med / nfev * 1e6:6.2f} us per evaluation+step")
+    print(f"   ratio generated / hand-written: {rows['generated'][0] / rows['hand-written'][0]:.2f} (target <= 1.5); "
+          f"simulate() / hand-written: {rows['simulate()'][0] / rows['hand-written'][0]:.2f}; "
+          f"largest state difference {diff:.1e} of the largest state")
+
+
+# ---------------------------------------------------------------- cold start
+COLD = """
+import os, sys, time
+sys.path.insert(0, {bench!r})
+t0 = time.perf_counter()
+from bench_fe import fe_rotor
+model = fe_rotor({nodes})
+model.equations()
+t1 = time.perf_counter()
+model.compile(backend="numba")
+t2 = time.perf_counter()
+print(t1 - t0, t2 - t1)
+"""
+
+
+def section_cold(args):
+    print(f"\n(c) cold derive + compile in a fresh process, empty rotorkit and numba caches (load {load():.1f})")
+    print(f"   {'nodes':>5s} {'coords':>6s} {'derive s':>9s} {'generate+compile s':>19s} {'total s':>8s}  target")
+    for nodes in args.cold_nodes:
+        env = dict(os.environ, ROTORKIT_CACHE_DIR=tempfile.mkdtemp(prefix="rk-bench-fe-"), ROTORKIT_QUIET="1",
+                   PYTHONPATH=str(ROOT))
+        out = subprocess.run([sys.executable, "-c", COLD.format(bench=str(ROOT / "bench"), nodes=nodes)], env=env,
+                             capture_output=True, text=True, check=True).stdout.split()
+        derive, comp = float(out[-2]), float(out[-1])
+        target = {25: "< 15 s", 100: "< 60 s"}.get(nodes, "")
+        print(f"   {nodes:5d} {4 * nodes:6d} {derive:9.2f} {comp:19.2f} {derive + comp:8.2f}  {target}", flush=True)
+
+
+# ---------------------------------------------------------------- codegen paths
+def section_codegen(args):
+    from rotorkit.engines.rk_numba import integrate
+
+    print(f"\ncodegen paths by size (fresh cache; load {load():.1f}): generate + numba compile, and the cost of one "
+          "right-hand side in the compiled loop (rotor without rub, 0.05 s)")
+    print(f"   {'nodes':>5s} {'coords':>6s} {'unrolled s':>10s} {'structured s':>12s} {'unrolled us':>11s} "
+          f"{'structured us':>13s}")
+    os.environ["ROTORKIT_CACHE_DIR"] = tempfile.mkdtemp(prefix="rk-bench-fe-")
+    for nodes in args.codegen_nodes:
+        model = fe_rotor(nodes, rub=False, name=f"cg{nodes}")
+        model.equations()
+        row = []
+        for mode in ("unrolled", "structured"):
+            t0 = time.perf_counter()
+            system = model.compile(backend="numba", codegen=mode)
+            row.append(time.perf_counter() - t0)
+        for mode in ("unrolled", "structured"):
+            system = model.compile(backend="numba", codegen=mode)
+            y0 = np.zeros(system.n_states)
+            p = system.within(0.0, 0.05).prepared_parameters
+            integrate(system.core, 0.0, 0.01, y0, p, np.array([0.01]))
+            med, _, _, sol = median_time(lambda: integrate(system.core, 0.0, 0.05, y0, p, np.array([0.05])),
+                                         args.repeat)
+            row.append(med / sol.nfev * 1e6)
+        print(f"   {nodes:5d} {4 * nodes:6d} {row[0]:10.2f} {row[1]:12.2f} {row[2]:11.2f} {row[3]:13.2f}", flush=True)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--nodes", type=int, nargs="+", default=[25, 50, 100])
-    parser.add_argument("--backend", default="auto", help="compile backend (auto, numba, python)")
+    parser.add_argument("--nodes", type=int, default=25, help="rotor size of the run section (default 25)")
+    parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
+    parser.add_argument("--sections", nargs="+", default=["run", "cold"], choices=["run", "cold", "codegen"])
+    parser.add_argument("--cold-nodes", type=int, nargs="+", default=[25, 100])
+    parser.add_argument("--codegen-nodes", type=int, nargs="+", default=[4, 6, 8, 10, 13])
     args = parser.parse_args(argv)
-    import os
-
-    os.environ["ROTORKIT_CACHE_DIR"] = tempfile.mkdtemp(prefix="rk-bench-fe-")
-    print(f"{'nodes':>5s} {'coords':>6s} {'derive s':>9s} {'compile s':>9s} {'rhs us':>8s}")
-    for nodes in args.nodes:
-        model = fe_rotor(nodes)
-        t0 = time.perf_counter()
-        model.equations()
-        t1 = time.perf_counter()
-        system = model.compile(backend=args.backend)
-        t2 = time.perf_counter()
-        y = np.zeros(system.n_states)
-        y[: len(model.coordinate_names)] = 1e-6
-        system.rhs(0.0, y)
-        reps = 2000
-        t3 = time.perf_counter()
-        for _ in range(reps):
-            system.rhs(0.0, y)
-        rhs_us = (time.perf_counter() - t3) / reps * 1e6
-        print(f"{nodes:5d} {len(model.coordinate_names):6d} {t1 - t0:9.2f} {t2 - t1:9.2f} {rhs_us:8.2f}", flush=True)
+    os.environ.setdefault("ROTORKIT_CACHE_DIR", tempfile.mkdtemp(prefix="rk-bench-fe-"))
+    print(f"bench_fe: {os.uname().nodename}, {os.cpu_count()} cores, load average {os.getloadavg()}")
+    for section in args.sections:
+        {"run": section_run, "cold": section_cold, "codegen": section_codegen}[section](args)
 
 
 if __name__ == "__main__":

@@ -38,6 +38,7 @@ from .rotor import check_station
 __all__ = ["BeamSegment", "plane_template", "THEORIES"]
 
 THEORIES = ("timoshenko", "euler-bernoulli")
+_FORMS = {}  # structural variant -> element matrices in placeholder symbols (BeamSegment._forms_template)
 
 
 @functools.cache
@@ -315,13 +316,46 @@ class BeamSegment(Element):
             M = M + rhoI * Mr
         return K, M, Mr
 
+    def _forms_template(self):
+        """(placeholders, mass, stiffness, gyroscopic) 8x8 of one element, in placeholder symbols.
+
+        Built once per structural variant (theory, flags, solid or hollow,
+        elements) and renamed to each element's parameter symbols with
+        ``xreplace``: the matrix products and substitutions of the template
+        are not redone for every element of a long rotor.
+        """
+        key = (self.theory, self.rotary_inertia, self.gyroscopic, self.inner_diameter == 0,
+               self.shear_coefficient is None, self.elements)
+        cached = _FORMS.get(key)
+        if cached is None:
+            names = ("outer_diameter", "inner_diameter", "density", "youngs_modulus", "shear_modulus",
+                     "shear_coefficient", "length")
+            p = {n: sp.Symbol(f"_beam_{n}", real=True) for n in names}
+            spin = sp.Symbol("_beam_spin", real=True)
+            K, M, Mr = self.element_matrices(p)
+            rhoI = self._section(p)[1]
+            sign = sp.diag(1, -1, 1, -1)  # y-z plane: (w, beta) = (y, -thx)
+            Ky, My = sign * K * sign, sign * M * sign
+            Z = sp.zeros(4, 4)
+            mass = sp.ImmutableMatrix(sp.BlockMatrix([[M, Z], [Z, My]]))
+            stiffness = sp.ImmutableMatrix(sp.BlockMatrix([[K, Z], [Z, Ky]]))
+            gyro = None
+            if self.gyroscopic:
+                # T_g = Omega rho I_p int thx' thy dz, beta_y = N_beta (sign q_y) so thx = -N_beta (sign q_y),
+                # thy = N_beta q_x -> -u_y^T (Omega rho I_p sign Mr) q_x: rows of the y-plane, columns of x
+                gyro = sp.zeros(8, 8)
+                gyro[4:, :4] = -spin * 2 * rhoI * (sign * Mr)
+                gyro = sp.ImmutableMatrix(gyro)
+            cached = _FORMS[key] = ((p, spin), mass, stiffness, gyro)
+        return cached
+
     def contribute(self, ctx):
         p = ctx.p
-        K, M, Mr = self.element_matrices(p)
-        rhoI = self._section(p)[1]
-        spin = ctx.speed(self.start)
-        sign = sp.diag(1, -1, 1, -1)  # y-z plane: (w, beta) = (y, -thx)
-        Ky, My, Mry = sign * K * sign, sign * M * sign, sign * Mr * sign
+        (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t = self._forms_template()
+        rename = {v: p[k] for k, v in placeholders.items() if k in p}
+        rename[spin_symbol] = ctx.speed(self.start)
+        mass, stiffness = mass_t.xreplace(rename), stiffness_t.xreplace(rename)
+        gyro = gyro_t.xreplace(rename) if gyro_t is not None else None
         forms = []
         nodes = self.nodes()
         for a, b in zip(nodes, nodes[1:]):
@@ -329,15 +363,6 @@ class BeamSegment(Element):
             cy = [ctx.coord(a, "y"), ctx.coord(a, "thx"), ctx.coord(b, "y"), ctx.coord(b, "thx")]
             coords = tuple(c[0] for c in cx + cy)
             speeds = tuple(c[1] for c in cx + cy)
-            Z = sp.zeros(4, 4)
-            mass = sp.Matrix(sp.BlockMatrix([[M, Z], [Z, My]]))
-            stiffness = sp.Matrix(sp.BlockMatrix([[K, Z], [Z, Ky]]))
-            gyro = None
-            if self.gyroscopic:
-                # T_g = Omega rho I_p int thx' thy dz, beta_y = N_beta (sign q_y) so thx = -N_beta (sign q_y),
-                # thy = N_beta q_x -> -u_y^T (Omega rho I_p sign Mr) q_x: rows of the y-plane, columns of x
-                gyro = sp.zeros(8, 8)
-                gyro[4:, :4] = -spin * 2 * rhoI * (sign * Mr)
             forms.append(QuadraticForm(coordinates=coords, speeds=speeds, mass=mass, stiffness=stiffness,
                                        gyroscopic=gyro))
             if self.torsion:

@@ -335,7 +335,28 @@ def _add(target, key, value):
 def _sparse(n, m, entries):
     """An immutable sparse n x m sympy matrix from ``{(i, j): [terms]}`` (no cost per zero entry)."""
     values = {key: sp.Add(*terms) for key, terms in entries.items()}
-    return sp.ImmutableSparseMatrix(n, m, {key: v for key, v in values.items() if v != 0})
+    return _immutable_sparse(n, m, {key: v for key, v in values.items() if v != 0})
+
+
+def _immutable_sparse(n, m, values):
+    """``ImmutableSparseMatrix(n, m, values)`` without sorting the entries by their expressions.
+
+    sympy's constructor builds a ``Dict`` whose items it puts in canonical
+    order with ``ordered``, which compares the entries' expressions: for a
+    beam rotor's matrices that was about a third of the derivation. Here the
+    items are ordered by their (row, column) keys, which is canonical too
+    (keys are unique); the matrix is the same (``==``, entries, ``todok``).
+    """
+    from sympy.core.basic import Basic
+
+    rep = sp.SparseMatrix(n, m, values)._rep
+    items = [sp.Tuple(sp.Tuple(*key), v) for key, v in sorted(rep.to_sympy().to_dok().items(), key=lambda kv: kv[0])]
+    content = Basic.__new__(sp.Dict, *items)
+    content.elements = frozenset(items)
+    content._dict = dict(items)
+    obj = Basic.__new__(sp.ImmutableSparseMatrix, sp.Integer(n), sp.Integer(m), content)
+    obj._rows, obj._cols, obj._rep = n, m, rep
+    return obj
 
 
 def derive(model):
