@@ -20,7 +20,8 @@ Sections (each prints ratios measured in this run, and the load average):
             also the whole ``simulate()`` call. The hand-written right-hand
             side is checked against rotorkit's before timing.
 ``cold``    (c) derive + generate + numba compile of a rotor in a fresh
-            process with empty caches, per size.
+            process with empty caches, per size (wall and the process's
+            CPU time: on a loaded machine the CPU time is the better guide).
 ``codegen`` unrolled against structured code generation by size: generate +
             numba compile time and one right-hand side inside the loop; the
             ``auto`` threshold (``rotorkit.codegen.generate.STRUCTURED_FROM``)
@@ -196,28 +197,30 @@ def section_run(args):
 COLD = """
 import os, sys, time
 sys.path.insert(0, {bench!r})
-t0 = time.perf_counter()
+t0, c0 = time.perf_counter(), time.process_time()
 from bench_fe import fe_rotor
 model = fe_rotor({nodes})
 model.equations()
-t1 = time.perf_counter()
+t1, c1 = time.perf_counter(), time.process_time()
 model.compile(backend="numba")
-t2 = time.perf_counter()
-print(t1 - t0, t2 - t1)
+t2, c2 = time.perf_counter(), time.process_time()
+print(t1 - t0, t2 - t1, c1 - c0, c2 - c1)
 """
 
 
 def section_cold(args):
     print(f"\n(c) cold derive + compile in a fresh process, empty rotorkit and numba caches (load {load():.1f})")
-    print(f"   {'nodes':>5s} {'coords':>6s} {'derive s':>9s} {'generate+compile s':>19s} {'total s':>8s}  target")
+    print(f"   {'nodes':>5s} {'coords':>6s} {'derive s':>9s} {'generate+compile s':>19s} {'total s':>8s} "
+          f"{'total CPU s':>11s}  target")
     for nodes in args.cold_nodes:
         env = dict(os.environ, ROTORKIT_CACHE_DIR=tempfile.mkdtemp(prefix="rk-bench-fe-"), ROTORKIT_QUIET="1",
                    PYTHONPATH=str(ROOT))
         out = subprocess.run([sys.executable, "-c", COLD.format(bench=str(ROOT / "bench"), nodes=nodes)], env=env,
                              capture_output=True, text=True, check=True).stdout.split()
-        derive, comp = float(out[-2]), float(out[-1])
+        derive, comp, cpu = float(out[-4]), float(out[-3]), float(out[-2]) + float(out[-1])
         target = {25: "< 15 s", 100: "< 60 s"}.get(nodes, "")
-        print(f"   {nodes:5d} {4 * nodes:6d} {derive:9.2f} {comp:19.2f} {derive + comp:8.2f}  {target}", flush=True)
+        print(f"   {nodes:5d} {4 * nodes:6d} {derive:9.2f} {comp:19.2f} {derive + comp:8.2f} {cpu:11.2f}  {target}",
+              flush=True)
 
 
 # ---------------------------------------------------------------- codegen paths
