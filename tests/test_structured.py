@@ -130,3 +130,24 @@ def test_codegen_mode_by_size_and_override(monkeypatch):
     assert codegen_mode(16) == "structured"
     with pytest.raises(rk.ParameterError, match="codegen='banded' is unknown"):
         codegen_mode(16, "banded")
+
+
+def test_beam_torsion_inertia_from_the_shared_template():
+    """Beam element matrices come from a template shared by elements; torsion keeps rho Ip l / 3 and / 6."""
+    import math
+
+    import sympy as sp
+
+    steel = Material.steel()
+    model = rk.Model([rk.Rotor(name="R", stations=(1, 2, 3), speed=100.0),
+                      BeamSegment(start=1, end=2, length=0.3, outer_diameter=0.05, material=steel, torsion=True),
+                      rk.Disk(station=2, mass=5.0, radius=0.1, torsion=True),
+                      rk.ShaftSegment(start=2, end=3, bending_stiffness=5e4, torsional_stiffness=300.0),
+                      rk.LumpedMass(station=3, mass=1.0),
+                      rk.ElasticSupport(station=1, stiffness=1e6), rk.ElasticSupport(station=3, stiffness=1e6)])
+    M = model.equations().mass_matrix
+    values = {sp.Symbol(k, real=True): v for k, v in model.parameters.items()}
+    a1, a2 = (model.coordinate_names.index(c) for c in ("alpha1", "alpha2"))
+    jl = steel.density * math.pi * 0.05**4 / 32 * 0.3
+    assert float(M[a1, a1].xreplace(values)) == pytest.approx(jl / 3, rel=1e-12)
+    assert float(M[a1, a2].xreplace(values)) == pytest.approx(jl / 6, rel=1e-12)

@@ -366,7 +366,7 @@ class BeamSegment(Element):
             forms.append(QuadraticForm(coordinates=coords, speeds=speeds, mass=mass, stiffness=stiffness,
                                        gyroscopic=gyro))
             if self.torsion:
-                GIp, l = self._section(p)[4], self._section(p)[5]
+                _, rhoI, _, _, GIp, l = self._section(p)
                 (qa, ua), (qb, ub) = ctx.coord(a, "alpha"), ctx.coord(b, "alpha")
                 Jl = 2 * rhoI * l
                 forms.append(QuadraticForm(coordinates=(qa, qb), speeds=(ua, ub),
