@@ -60,12 +60,20 @@ def bench_rhs_in_loop():
     # the hand-written core switches the roll at t >= roll_end; nudge like System.within does
     hand = lambda: segmented(hand_core, lambda a, b: packed, (2.0, 4.0))  # noqa: E731
     generated(), hand()  # compile
-    t_gen, (n_gen, y_gen) = timed(generated)
-    t_hand, (n_hand, y_hand) = timed(hand)
-    print("\n1. RHS inside the compiled DOP853 loop, AL-31F 0-6 s (median of 5):")
+    runs = {"generated": [], "hand": []}
+    for _ in range(7):  # interleaved, so a change of the machine's load hits both alike
+        for name, fn in (("generated", generated), ("hand", hand)):
+            t0 = time.perf_counter()
+            out = fn()
+            runs[name].append((time.perf_counter() - t0, out))
+    t_gen, (n_gen, y_gen) = statistics.median(t for t, _ in runs["generated"]), runs["generated"][0][1]
+    t_hand, (n_hand, y_hand) = statistics.median(t for t, _ in runs["hand"]), runs["hand"][0][1]
+    ratios = sorted((g / n_gen) / (h / n_hand) for (g, _), (h, _) in zip(runs["generated"], runs["hand"]))
+    print("\n1. RHS inside the compiled DOP853 loop, AL-31F 0-6 s (median of 7, interleaved):")
     print(f"   generated RHS:    {t_gen:.3f} s, {n_gen} evaluations, {t_gen / n_gen * 1e9:6.0f} ns per evaluation+step")
     print(f"   hand-written RHS: {t_hand:.3f} s, {n_hand} evaluations, {t_hand / n_hand * 1e9:6.0f} ns per evaluation+step")
-    print(f"   ratio generated / hand-written (per evaluation): {(t_gen / n_gen) / (t_hand / n_hand):.2f}")
+    print(f"   ratio generated / hand-written (per evaluation): {(t_gen / n_gen) / (t_hand / n_hand):.2f} "
+          f"(pairwise: {ratios[0]:.2f}-{ratios[-1]:.2f})")
     return t_hand
 
 
