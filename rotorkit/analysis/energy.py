@@ -806,10 +806,9 @@ def plot_energy_balance(balance, ax=None, *, channels=True):
     -------
     matplotlib.axes.Axes
     """
-    import matplotlib.pyplot as plt
+    from ..plotting.basic import legend_beside, new_axes
 
-    if ax is None:
-        _, ax = plt.subplots()
+    ax = new_axes(ax, figsize=(7.0, 4.0))
     ax.plot(balance.t, balance.h - balance.h[0], label="h - h0", lw=1.5)
     if channels:
         for name, w in balance.work.items():
@@ -817,6 +816,8 @@ def plot_energy_balance(balance, ax=None, *, channels=True):
     ax.plot(balance.t, balance.residual, label="residual", lw=1, color="k")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("energy (J)")
-    ax.legend(loc="best", fontsize="small")
+    ax.set_title(f"energy balance: change of h, work per channel, residual (max {balance.relative_residual:.1e} "
+                 "of the energy scale)", fontsize=9)
+    legend_beside(ax)
     return ax
 

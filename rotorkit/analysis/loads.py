@@ -36,14 +36,15 @@ class StationLoad:
 
     def plot(self, ax=None):
         """Fx, Fy and |F| against time; returns the Axes."""
-        from ..plotting.basic import new_axes
+        from ..plotting.basic import legend_beside, new_axes
 
         ax = new_axes(ax, figsize=(7.0, 3.5))
         for values, label in ((self.fx, "$F_x$"), (self.fy, "$F_y$"), (self.magnitude, "$|F|$")):
             ax.plot(self.t, values, label=label)
         ax.set_xlabel("t (s)")
         ax.set_ylabel(f"load on station {self.station} (N)")
-        ax.legend(loc="upper right")
+        ax.set_title(f"inertial load on station {self.station}: components and magnitude", fontsize=10)
+        legend_beside(ax)
         return ax
 
 

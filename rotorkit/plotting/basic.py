@@ -17,6 +17,12 @@ def new_axes(ax=None, figsize=(6.0, 4.0)):
     return Figure(figsize=figsize, layout="constrained").add_subplot()
 
 
+def legend_beside(ax, *args, fontsize=8, **kwargs):
+    """The legend outside the axes, to the right of the data (the figure's constrained layout makes room)."""
+    return ax.legend(*args, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=fontsize, borderaxespad=0.0,
+                     **kwargs)
+
+
 def _factor(units):
     try:
         return LENGTH_UNITS[units]
@@ -148,7 +154,7 @@ def plot_signals(result, names, ax=None, *, scale=1.0, unit_label="", highpass=N
     window = _maneuver_window(result)
     if window is not None and result.t.size and window[0] < result.t[-1]:
         ax.axvspan(window[0], min(window[1], result.t[-1]), color="0.9", zorder=0, label="manoeuvre")
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
+    legend_beside(ax)
     ax.set_title(f"{result.name}: {', '.join(names)} against time"
                  + (f" (high-pass {highpass:g} Hz)" if highpass else ""), fontsize=10)
     return ax

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from .basic import new_axes
+from .basic import legend_beside, new_axes
 from .modes import plot_mode_shape
 
 __all__ = ["plot_campbell", "plot_log_decrement", "plot_mode_shape", "WHIRL_STYLES"]
@@ -91,7 +91,7 @@ def plot_campbell(campbell, ax=None, units="rad/s", *, show_critical=True, frequ
     ax.set_ylabel(f"damped natural frequency ({frequency_units or units})")
     ax.set_title("Campbell diagram")
     ax.grid(True, lw=0.3)
-    ax.legend(handles, labels, fontsize=7, loc="upper left")
+    legend_beside(ax, handles, labels, fontsize=7)  # beside the lines, never over them
     return ax
 
 
@@ -128,5 +128,5 @@ def plot_log_decrement(campbell, ax=None, units="rad/s", *, show_onset=True):
     ax.set_ylabel("logarithmic decrement (-)")
     ax.set_title("Stability diagram")
     ax.grid(True, lw=0.3)
-    ax.legend(fontsize=7)
+    legend_beside(ax, fontsize=7)
     return ax

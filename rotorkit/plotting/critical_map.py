@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from .basic import new_axes
+from .basic import legend_beside, new_axes
 
 __all__ = ["plot_critical_speed_map"]
 
@@ -44,5 +44,5 @@ def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
     ax.set_ylabel(f"critical speed ({units})")
     ax.set_title(f"undamped critical speed map (supports at {', '.join(cmap.supports)})", fontsize=9)
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=7)
+    legend_beside(ax, fontsize=7)
     return ax

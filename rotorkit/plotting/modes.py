@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from .basic import new_axes
+from .basic import legend_beside, new_axes
 
 __all__ = ["plot_mode_shape", "plot_mode_orbits"]
 
@@ -64,7 +64,7 @@ def plot_mode_shape(modes, mode, ax=None):
     twist = [f"|{n}| = {abs(v):.3g}" for n, v in modes.shape_of(mode).items() if n.startswith("alpha")]
     ax.set_title(_title(modes, i) + ("\n" + ", ".join(twist) if twist else ""), fontsize=9)
     ax.grid(True, lw=0.3)
-    ax.legend(fontsize=8)
+    legend_beside(ax)
     return ax
 
 
@@ -95,7 +95,7 @@ def plot_mode_orbits(modes, mode, ax=None, *, points=60):
     ax.plot(pos, centre_x, centre_y, "k-o", ms=3, lw=1.0)
     ax.plot(pos, np.zeros_like(pos), np.zeros_like(pos), color="0.6", lw=0.8)
     ax.set_xlabel(label)
-    ax.set_ylabel("x (relative)")
-    ax.set_zlabel("y (relative)")
+    ax.set_ylabel("x, relative to the largest (-)")
+    ax.set_zlabel("y, relative to the largest (-)")
     ax.set_title(_title(modes, i) + "\nblue forward, red backward", fontsize=9)
     return ax

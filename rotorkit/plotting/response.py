@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from .basic import LENGTH_UNITS, new_axes
+from .basic import LENGTH_UNITS, legend_beside, new_axes
 
 __all__ = ["plot_unbalance_bode", "plot_unbalance_polar", "plot_frf", "plot_static_deflection"]
 
@@ -142,5 +142,5 @@ def plot_static_deflection(static, ax=None, *, length_units="um"):
     ax.set_ylabel(f"static deflection ({length_units})")
     ax.set_title(f"static deflection along the rotor at t = {static.t:g} s", fontsize=9)
     ax.grid(True, lw=0.3)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
+    legend_beside(ax)
     return ax

@@ -5,7 +5,7 @@ Every function takes ``ax=None`` (a new Figure, no pyplot) and returns the Axes.
 
 import numpy as np
 
-from .basic import new_axes
+from .basic import legend_beside, new_axes
 
 __all__ = ["plot_probe_orbit", "plot_sensor_signals", "plot_sensor_waterfall", "write_sensor_outputs"]
 
@@ -33,7 +33,7 @@ def plot_probe_orbit(horizontal, vertical, ax=None, *, start=None, end=None, cle
     if clearance is not None:
         th = np.linspace(0, 2 * np.pi, 361)
         ax.plot(clearance * 1e6 * np.cos(th), clearance * 1e6 * np.sin(th), "k--", lw=0.8, label="clearance")
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
+        legend_beside(ax)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(f"{horizontal.name} (µm)")
     ax.set_ylabel(f"{vertical.name} (µm)")
@@ -51,7 +51,7 @@ def plot_sensor_signals(signals, ax=None, *, highpass=None):
         ax.plot(s.t, s.values * factor, lw=0.5, label=f"{s.name} ({s.sample_rate:g} Hz)")
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"{', '.join(s.name for s in signals)} ({unit})")
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)  # beside the data
+    legend_beside(ax)  # beside the data
     ax.set_title("sensor signals" + (f" (high-pass {highpass:g} Hz)" if highpass else ""))
     return ax
 
