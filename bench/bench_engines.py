@@ -7,8 +7,9 @@ Radau and BDF, which take minutes). Prints ratios measured in this run.
    the same compiled Dormand-Prince loop over the same run: the cost of an
    evaluation inside compiled code, where call overhead does not hide it.
 2. Engines and methods at the default tolerance.
-3. Cold start (empty rotorkit and numba caches) against warm start of
-   ``rotorkit run al31f``.
+3. Cold start (fresh, empty cache folders) against warm start of
+   ``rotorkit run al31f``: wall and CPU time, and the time beyond the
+   simulation (``python bench/bench_engines.py --sections 3``).
 """
 
 import argparse
@@ -96,36 +97,68 @@ def bench_engines(slow, t_hand):
 
 
 def run_cli(env, out):
+    """One ``rotorkit run al31f`` in a fresh process: (wall s, CPU s of the process, simulate's wall s)."""
+    import resource
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run([sys.executable, "-m", "rotorkit.cli", "run", "al31f", "--out", out],
                           env=env, capture_output=True, text=True)
     wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     assert proc.returncode == 0, proc.stderr
     line = next(s for s in proc.stdout.splitlines() if s.startswith("simulated"))
     sim = float(line.split(" in ")[1].split(" s")[0])
-    return wall, sim
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu, sim
 
 
-def bench_start():
-    print("\n3. `rotorkit run al31f` (0-6 s, plots and signals written), cold vs warm:")
+def _median_runs(runs):
+    return tuple(statistics.median(r[i] for r in runs) for i in range(3))
+
+
+def bench_start(repeat=3):
+    """Cold (every run in fresh, empty cache folders) and warm starts of the command, medians of ``repeat`` runs.
+
+    Cold runs compile the integration loop in a second process while the model is derived and compiled
+    (``rotorkit.engines.rk_numba.compile_loop_in_background``); "serial" turns that off
+    (``ROTORKIT_BACKGROUND_COMPILE=0``), so its CPU time is all the work of a cold start. The CPU time of a
+    cold run counts the command's own process only, not the background compilation (not waited for by it).
+    """
+    print(f"\n3. `rotorkit run al31f` (0-6 s, plots and signals written), cold vs warm, median of {repeat}:")
+    base = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "ROTORKIT_BACKGROUND_COMPILE")}
+    base["MPLBACKEND"] = "Agg"
+    rows = {}
     with tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ, ROTORKIT_CACHE_DIR=f"{tmp}/rk", NUMBA_CACHE_DIR=f"{tmp}/numba", MPLBACKEND="Agg")
-        cold = run_cli(env, f"{tmp}/out")
-        warm = [run_cli(env, f"{tmp}/out") for _ in range(3)]
-    w_wall = statistics.median(w for w, _ in warm)
-    w_sim = statistics.median(s for _, s in warm)
-    print(f"   cold: {cold[0]:.2f} s total, of which simulate {cold[1]:.2f} s")
-    print(f"   warm: {w_wall:.2f} s total, of which simulate {w_sim:.2f} s (median of 3)")
-    print(f"   cold / warm total: {cold[0] / w_wall:.1f}")
+        for label, extra in (("cold", {}), ("cold, serial", {"ROTORKIT_BACKGROUND_COMPILE": "0"})):
+            runs = []
+            for k in range(repeat):  # fresh cache folders every time: nothing is left from an earlier run
+                env = dict(base, ROTORKIT_CACHE_DIR=f"{tmp}/{label[-6:]}{k}", **extra)
+                runs.append(run_cli(env, f"{tmp}/out"))
+            rows[label] = runs
+        env = dict(base, ROTORKIT_CACHE_DIR=f"{tmp}/cold0")  # warm: the first cold run's cache
+        rows["warm"] = [run_cli(env, f"{tmp}/out") for _ in range(repeat)]
+    for label, runs in rows.items():
+        wall, cpu, sim = _median_runs(runs)
+        spread = f"{min(r[0] for r in runs):.2f}-{max(r[0] for r in runs):.2f}"
+        print(f"   {label:13s} {wall:6.2f} s wall ({spread}), {cpu:6.2f} s CPU, simulate {sim:.2f} s, "
+              f"beyond the simulation {wall - sim:5.2f} s wall")
+    print(f"   cold / warm total: {_median_runs(rows['cold'])[0] / _median_runs(rows['warm'])[0]:.1f}")
     t0 = time.perf_counter()
     subprocess.run([sys.executable, "-c", "import rotorkit, numba, matplotlib.figure"], check=True)
     print(f"   (python -c 'import rotorkit, numba, matplotlib.figure': {time.perf_counter() - t0:.2f} s)")
+    print(f"   load average (1, 5, 15 min): {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser()
     parser.add_argument("--slow", action="store_true", help="also scipy LSODA, Radau, BDF (minutes)")
+    parser.add_argument("--sections", default="1,2,3", help="comma-separated sections to run (default 1,2,3)")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per start-up row of section 3 (default 3)")
     args = parser.parse_args()
-    t_hand = bench_rhs_in_loop()
-    bench_engines(args.slow, t_hand)
-    bench_start()
+    sections = {int(x) for x in args.sections.split(",")}
+    t_hand = bench_rhs_in_loop() if sections & {1, 2} else None
+    if 2 in sections:
+        bench_engines(args.slow, t_hand)
+    if 3 in sections:
+        bench_start(args.repeat)

@@ -37,6 +37,7 @@ def main(args):
     out = check_output_folder(args.out or f"rotorkit-out/{args.preset}")  # before any derivation or run
     outputs = getattr(module, "OUTPUTS", {})
     t_end = args.t_end if args.t_end is not None else outputs.get("t_end", 1.0)
+    _compile_integrator_ahead(args)
     system = model.compile(backend=args.backend)
     compiled = time.perf_counter()
     print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
@@ -45,6 +46,7 @@ def main(args):
     if args.check_convergence:
         options["check_convergence"] = True
     measurement = None
+    _import_plotting_in_background()  # while the compiled loop runs without the GIL
     try:
         if outputs.get("sensors"):  # the preset's virtual sensors, each at its own rate
             from ..sensors import measure
@@ -76,6 +78,44 @@ def main(args):
     for p in written:
         print(f"wrote {p}")
     return 0
+
+
+def _compile_integrator_ahead(args):
+    """On a cold cache, compile the integration loop in another process while this one derives and compiles the model.
+
+    See :func:`rotorkit.engines.rk_numba.compile_loop_in_background`; nothing happens when the run will not use the
+    compiled engine or the loop is cached already.
+    """
+    from ..simulate import COMPILED_METHODS
+    from ..system import _resolve_backend
+
+    if args.engine == "scipy" or args.method not in COMPILED_METHODS or _resolve_backend(args.backend) != "numba":
+        return None
+    from ..engines.rk_numba import compile_loop_in_background
+
+    return compile_loop_in_background()
+
+
+def _import_plotting_in_background():
+    """Import matplotlib (about half a second) in a thread, so it happens while the simulation runs.
+
+    The compiled engine releases the GIL, so on a second core the import costs
+    no wall time; a later import of the same modules waits for this one.
+    """
+    import threading
+
+    def load():
+        try:
+            import matplotlib.backends.backend_agg  # noqa: F401
+            import matplotlib.figure  # noqa: F401
+
+            from ..plotting import basic  # noqa: F401
+        except Exception:  # noqa: BLE001 - the import is tried again where the figures are drawn
+            pass
+
+    thread = threading.Thread(target=load, name="rotorkit-import-plotting", daemon=True)
+    thread.start()
+    return thread
 
 
 def _keep(result, out, name):

@@ -10,6 +10,7 @@ is stored under the model's ``structure_key``::
     <cache>/models/<key>/numba.sig.json  HMAC of every file in __pycache__
     <cache>/shared/<name>/               numba's cache of rotorkit's own compiled code (the
                                          integration loop), with its numba.sig.json
+    <cache>/shared/<name>.lock           held (flock) while a process loads or compiles it
     <cache>/secret.key                   a random key, readable by this user only
 
 What is trusted
@@ -37,6 +38,7 @@ a folder, disk full) gives one warning and the model is built in memory.
 The cache folder is ``$ROTORKIT_CACHE_DIR`` or ``~/.cache/rotorkit``.
 """
 
+import contextlib
 import hashlib
 import hmac
 import json
@@ -51,7 +53,7 @@ from pathlib import Path
 
 from ..files import atomic_write_bytes, atomic_write_text
 
-__all__ = ["cache_dir", "load", "store", "clear", "info", "jit"]
+__all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "shared_lock", "shared_is_current"]
 
 FORMAT = "rotorkit-model-cache-2"
 SIGNATURES = "numba.sig.json"
@@ -387,6 +389,65 @@ def jit_shared(function, name, signature, **options):
     dispatcher.compile(signature.args)
     dispatcher.disable_compile()
     return dispatcher
+
+
+def _lock_file(name):
+    """An open file ``<cache>/shared/<name>.lock`` (mode 0o600) to ``flock``; None where that is impossible."""
+    try:
+        import fcntl  # noqa: F401 - POSIX only
+    except ImportError:
+        return None
+    try:
+        path = _rebuilt_dir(cache_dir() / "shared") / f"{name}.lock"
+        fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o600)
+    except OSError:
+        return None
+    return os.fdopen(fd, "r+b")
+
+
+@contextlib.contextmanager
+def shared_lock(name, *, blocking=True):
+    """Hold the lock of ``<cache>/shared/<name>`` (an exclusive ``flock``) within the block.
+
+    Every process that loads or compiles rotorkit's shared code into the
+    cache takes it, so one process never reads (and, finding them unsigned,
+    removes) files another is still writing, and a process started while
+    another compiles waits for it and then loads its result. Yields the open
+    lock file, or None where locking is not available (no ``fcntl``, cache
+    folder unusable: then nothing is serialised, as before) or, with
+    ``blocking=False``, when another process holds the lock.
+    """
+    handle = _lock_file(name)
+    if handle is None:
+        yield None
+        return
+    import fcntl
+
+    with handle:  # the lock is released when the file is closed (at the latest when the process exits)
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | (0 if blocking else fcntl.LOCK_NB))
+            locked = True
+        except OSError:  # held elsewhere (non-blocking), or flock not supported by the file system
+            locked = False
+        yield handle if locked else None
+
+
+def shared_is_current(name, source):
+    """True if ``<cache>/shared/<name>`` holds signed numba cache files newer than the Python file ``source``.
+
+    A cheap look at file names and times (nothing is read or verified): used
+    only to decide whether compiling ahead in another process is worth it;
+    loading still verifies everything.
+    """
+    try:
+        entry = cache_dir() / "shared" / name
+        signed = json.loads((entry / SIGNATURES).read_text(encoding="utf-8"))
+        newest_source = os.stat(source).st_mtime
+        index = [p for p in entry.glob("*/*.nbi") if p.name in signed]
+        data = [p for p in entry.glob("*/*.nbc") if p.name in signed]
+        return bool(data) and any(p.stat().st_mtime >= newest_source for p in index)
+    except (OSError, ValueError, TypeError):
+        return False
 
 
 def info():

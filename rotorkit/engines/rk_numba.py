@@ -95,6 +95,7 @@ __all__ = [
     "STATUS_MAX_STEPS",
     "CoreSignatureError",
     "RKSolution",
+    "compile_loop_in_background",
     "integrate",
 ]
 
@@ -883,18 +884,86 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     return status, i_eval, t, nfev, n_accepted, n_rejected, h_abs
 
 
+def _build_loop():
+    """Compile (or load from numba's on-disk cache) the adaptive loop; the caller holds the cache's lock."""
+    from ..codegen.cache import jit_shared
+
+    return jit_shared(_rk_loop, "rk_loop", _LOOP_SIGNATURE, nogil=True, error_model="numpy")
+
+
 @functools.lru_cache(maxsize=None)
 def _compiled_loop():
     """Compile (or load from numba's on-disk cache) the adaptive loop.
+
+    Waits, holding the cache's lock, for another process compiling it into
+    the same cache (`compile_loop_in_background`), then loads its result.
 
     Returns
     -------
     numba.core.dispatcher.Dispatcher
         The loop, compiled for `_LOOP_SIGNATURE` only.
     """
-    from ..codegen.cache import jit_shared
+    from ..codegen.cache import shared_lock
 
-    return jit_shared(_rk_loop, "rk_loop", _LOOP_SIGNATURE, nogil=True, error_model="numpy")
+    with shared_lock("rk_loop"):
+        return _build_loop()
+
+
+#: set ROTORKIT_BACKGROUND_COMPILE=0 to never compile the loop in another process
+BACKGROUND_VARIABLE = "ROTORKIT_BACKGROUND_COMPILE"
+_BACKGROUND = []  # processes this one started (kept so they are not reaped as garbage while running)
+
+
+def compile_loop_in_background():
+    """Start compiling the integration loop into rotorkit's cache in another process, if it needs compiling.
+
+    The loop takes seconds to compile the first time (it is cached on disk
+    afterwards). A caller that knows it will integrate soon, but has other
+    work first (``rotorkit run`` derives and compiles its model), starts it
+    here so the two compilations run on two cores at once. The other process
+    holds the cache's lock from before it starts until it has written and
+    signed the cache; the first `integrate` of this process waits for that
+    lock and loads the result (if the other process failed, it compiles the
+    loop itself, as without this call). The other process runs in its own
+    session (Ctrl-C here does not interrupt it half-way through writing the
+    cache) and finishes even if this one ends first.
+
+    Nothing is started when the loop is already loaded in this process or
+    compiled in the cache, when another process holds the lock, on a single
+    core, or with ``ROTORKIT_BACKGROUND_COMPILE=0``.
+
+    Returns
+    -------
+    subprocess.Popen or None
+        The process started, if any.
+    """
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from ..codegen import cache
+
+    if os.environ.get(BACKGROUND_VARIABLE, "").strip() == "0" or _compiled_loop.cache_info().currsize:
+        return None
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if cores < 2 or cache.shared_is_current("rk_loop", __file__):
+        return None
+    root = str(Path(__file__).resolve().parents[2])  # the folder holding the rotorkit package
+    code = f"import sys; sys.path.insert(0, {root!r}); from rotorkit.engines import rk_numba; rk_numba._build_loop()"
+    with cache.shared_lock("rk_loop", blocking=False) as lock:
+        if lock is None:
+            return None  # locking unavailable, or another process is compiling it right now
+        try:
+            process = subprocess.Popen(
+                [sys.executable, "-c", code], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL, pass_fds=(lock.fileno(),), start_new_session=True,
+                env=dict(os.environ, ROTORKIT_CACHE_DIR=str(cache.cache_dir())))
+        except OSError:
+            return None
+    # the child holds the lock through the inherited descriptor until it exits
+    _BACKGROUND.append(process)
+    return process
 
 
 # ---------------------------------------------------------------------------
@@ -1228,7 +1297,9 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
     else:
         from ..progress import announce_if_slow
 
-        with announce_if_slow("loading the compiled integrator (compiled once per installation, ~5-10 s; "
+        with announce_if_slow("waiting for the integrator being compiled in another process (once per cache)"
+                              if any(p.poll() is None for p in _BACKGROUND) else
+                              "loading the compiled integrator (compiled once per installation, ~5-10 s; "
                               "numba caches it on disk)"):
             loop = _compiled_loop()
     spent = 0  # core evaluations and rejected attempts of starts whose first step did not fit the buffer
