@@ -4,6 +4,7 @@
     PYTHONPATH=. python bench/bench_fe.py --nodes 25 --repeat 5 --sections run
     PYTHONPATH=. python bench/bench_fe.py --sections cold --cold-nodes 25 100
     PYTHONPATH=. python bench/bench_fe.py --sections codegen --codegen-nodes 4 6 8 10 13
+    PYTHONPATH=. python bench/bench_fe.py --sections reduced --modes 20
 
 The rotor (issue 14, benchmark 5): a uniform 50 mm steel shaft of 1.5 m in
 ``nodes - 1`` Timoshenko elements (4 coordinates per node), two disks with
@@ -22,6 +23,11 @@ Sections (each prints ratios measured in this run, and the load average):
 ``cold``    (c) derive + generate + numba compile of a rotor in a fresh
             process with empty caches, per size (wall and the process's
             CPU time: on a loaded machine the CPU time is the better guide).
+``reduced`` (b) the full model against its Craig-Bampton reduction (``rotorkit.reduce``,
+            ``--modes`` interior modes plus the physical coordinates of the
+            rub and unbalance stations), each 1 s at rtol 1e-6 in the same
+            compiled loop, medians: the speed ratio, and the spectral error
+            of the rub station's response (defined in ``spectral_error``).
 ``codegen`` unrolled against structured code generation by size: generate +
             numba compile time and one right-hand side inside the loop; the
             ``auto`` threshold (``rotorkit.codegen.generate.STRUCTURED_FROM``)
@@ -193,6 +199,74 @@ def section_run(args):
           f"largest state difference {diff:.1e} of the largest state")
 
 
+# ---------------------------------------------------------------- (b) reduced model
+BAND = (0.0, 3000.0)  # rad/s: 10 x the running speed
+STEADY = 0.5  # s: the spectra use t >= STEADY
+
+
+def spectral_error(t, x_ref, x, band=BAND, start=STEADY):
+    """Spectral error of a signal ``x`` against ``x_ref`` (same samples ``t``).
+
+    ``max_w |A(w) - A_ref(w)| / max_w A_ref(w)`` over ``w`` in ``band``
+    (rad/s), ``A`` the Hann-windowed amplitude spectrum of the samples with
+    ``t >= start`` (the steady part): the largest difference of the amplitude
+    spectra in the band of interest relative to the reference's peak there.
+    """
+    from rotorkit.analysis import amplitude_spectrum
+
+    keep = t >= start
+    ref = amplitude_spectrum(t[keep], x_ref[keep])
+    got = amplitude_spectrum(t[keep], x[keep])
+    inside = (ref.frequency >= band[0]) & (ref.frequency <= band[1])
+    return float(np.abs(got.amplitude[inside] - ref.amplitude[inside]).max() / ref.amplitude[inside].max())
+
+
+def section_reduced(args):
+    import rotorkit as rk
+    from rotorkit.engines.rk_numba import integrate
+
+    model = fe_rotor(args.nodes)
+    system = model.compile(backend="numba", codegen="structured")
+    n = len(model.coordinate_names)
+    t0 = time.perf_counter()
+    reduced = rk.reduce(system, modes=args.modes)
+    t_reduce = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    reduced.with_parameters(R_speed=SPEED)
+    t_rebuild = time.perf_counter() - t0
+    t_eval = np.linspace(0.0, 1.0, 10_001)
+
+    def run(sys_):
+        p = sys_.within(0.0, 1.0).prepared_parameters
+        y0 = np.zeros(sys_.n_states)
+        sol = integrate(sys_.core, 0.0, 1.0, y0, p, t_eval, rtol=1e-6, atol=1e-9)
+        assert sol.success, sol.message
+        return sol
+
+    run(system), run(reduced)  # compile the loop
+    rows = {label: median_time(lambda s=s: run(s), args.repeat) for label, s in (("full", system),
+                                                                                  ("reduced", reduced))}
+    full, red = rows["full"][3], rows["reduced"][3]
+    rub = next(e for e in model.elements if type(e).__name__ == "RubStator").station
+    ix = model.coordinate_names.index(f"x{rub}")
+    x_full = full.y[ix]
+    x_red = (reduced.basis @ red.y[: reduced.basis.shape[1]])[ix]
+    err = spectral_error(t_eval, x_full, x_red)
+    estimate = reduced.error_estimate(band=BAND)
+    ratio = rows["full"][0] / rows["reduced"][0]
+    print(f"\n(b) {args.nodes}-node rotor ({n} coordinates) against rk.reduce(..., modes={args.modes}) "
+          f"({reduced.n_states // 2} coordinates: {', '.join(reduced.boundary)} + modes), 1 s, rtol 1e-6, "
+          f"median of {args.repeat} (load {load():.1f}); reduce {t_reduce * 1e3:.0f} ms (numba compile included "
+          f"on first use), new parameters {t_rebuild * 1e3:.1f} ms")
+    for label, (med, lo, hi, sol) in rows.items():
+        print(f"   {label:8s} {med:7.3f} s  (min {lo:.3f}, max {hi:.3f})  {sol.nfev:9d} evaluations  "
+              f"{med / sol.nfev * 1e6:6.2f} us per evaluation+step")
+    print(f"   speed ratio full / reduced: {ratio:.1f} (target >= 20)")
+    print(f"   spectral error of x{rub} (rub station), t >= {STEADY:g} s, band {BAND[0]:g}-{BAND[1]:g} rad/s: "
+          f"{err:.2e} of the peak (target <= 1e-3); largest |x{rub}| {np.abs(x_full).max():.3g} m")
+    print(f"   error estimate: {estimate}")
+
+
 # ---------------------------------------------------------------- cold start
 COLD = """
 import os, sys, time
@@ -255,14 +329,16 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--nodes", type=int, default=25, help="rotor size of the run section (default 25)")
     parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
-    parser.add_argument("--sections", nargs="+", default=["run", "cold"], choices=["run", "cold", "codegen"])
+    parser.add_argument("--sections", nargs="+", default=["run", "cold"], choices=["run", "cold", "codegen", "reduced"])
+    parser.add_argument("--modes", type=int, default=20, help="interior modes of the reduced section (default 20)")
     parser.add_argument("--cold-nodes", type=int, nargs="+", default=[25, 100])
     parser.add_argument("--codegen-nodes", type=int, nargs="+", default=[4, 6, 8, 10, 13])
     args = parser.parse_args(argv)
     os.environ.setdefault("ROTORKIT_CACHE_DIR", tempfile.mkdtemp(prefix="rk-bench-fe-"))
     print(f"bench_fe: {os.uname().nodename}, {os.cpu_count()} cores, load average {os.getloadavg()}")
     for section in args.sections:
-        {"run": section_run, "cold": section_cold, "codegen": section_codegen}[section](args)
+        {"run": section_run, "cold": section_cold, "codegen": section_codegen,
+         "reduced": section_reduced}[section](args)
 
 
 if __name__ == "__main__":

@@ -24,6 +24,8 @@ _LAZY = {
     "list_presets": "presets",
     "System": "system",
     "available_backends": "system",
+    "reduce": "reduction",
+    "ReducedSystem": "reduction",
 }
 
 
@@ -64,6 +66,8 @@ __all__ = [
     "list_presets",
     "load_result",
     "available_backends",
+    "reduce",
+    "ReducedSystem",
     "RotorkitError",
     "ParameterError",
     "UnitError",
