@@ -246,3 +246,18 @@ def test_expand_checks_the_result(small):
         reduced.expand(run)
     with pytest.raises(TypeError, match="expected a rotorkit System or Model"):
         rk.reduce("al31f", modes=2)
+
+
+def test_gravity_sag_is_exact_with_few_modes():
+    """A constant interior load (gravity on the whole shaft) gets its static vector: the sag is exact."""
+    from rotorkit.analysis.linearize import static_equilibrium
+
+    model = rk.Model(list(beam_rotor(5, rub=False).elements) + [rk.Maneuver.steady()], name="reduction_gravity")
+    full = model.compile(backend="python")
+    q_full = static_equilibrium(full)
+    assert np.abs(q_full).max() > 1e-6  # it sags
+    for modes in (0, 2):
+        reduced = rk.reduce(full, modes=modes)
+        assert reduced.coordinate_names[-1] == "eta_static"
+        q = reduced.basis @ static_equilibrium(reduced)
+        np.testing.assert_allclose(q, q_full, rtol=0, atol=1e-9 * np.abs(q_full).max())
