@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import rotorkit as rk
-from rotorkit.codegen.generate import generate, mass_blocks
+from rotorkit.codegen.generate import double_angles, generate, mass_blocks
 from rotorkit.codegen.printer import RhsPrinter
 from rotorkit.symbolic.functions import ramp, safe_div, step, window
 
@@ -33,6 +33,32 @@ def test_cse_and_block_solve_do_not_change_the_numbers(backend):
         got = system.rhs(t, y)
         np.testing.assert_array_equal(got[:16], y[16:])
         np.testing.assert_allclose(got[16:], ref, rtol=1e-9, atol=1e-9 * np.abs(ref).max())
+
+
+def test_double_angles_save_calls_and_keep_the_numbers():
+    a, b, c = sp.symbols("a b c", real=True)
+    exprs = [3 * sp.sin(2 * a * b) + sp.cos(a * b), sp.cos(2 * a * b) * sp.sin(a * b) + sp.sin(c)]
+    out = double_angles(exprs)
+    calls = set().union(*(e.atoms(sp.sin, sp.cos) for e in out))
+    assert calls == {sp.sin(a * b), sp.cos(a * b), sp.sin(c)}  # four calls of a, b became two
+    point = {a: 0.7, b: 1.3, c: -0.4}
+    for e, new in zip(exprs, out):
+        assert float(new.subs(point)) == pytest.approx(float(e.subs(point)), rel=1e-14)
+    # only two of the four present: rewriting would not save a call, so nothing changes
+    assert double_angles([sp.sin(2 * a) + sp.sin(a)]) == [sp.sin(2 * a) + sp.sin(a)]
+
+
+def test_constant_masses_are_multiplied_by_their_prepared_reciprocals():
+    """The preset's rhs divides by no parameter-only mass entry (a division costs several multiplications)."""
+    eom = rk.preset("al31f").equations()
+    source = generate(eom, "k").source
+    rhs = source[source.index("def rhs("):source.index("def jac(")]
+    divisions = [line for line in rhs.splitlines() if " / " in line]
+    # what is left: each eccentric disk's Schur complement, which depends on the state
+    assert len(divisions) == 2 and all(line.split(" / ")[1].startswith("_l") for line in divisions), divisions
+    names = [str(p) for p in eom.parameters]
+    for name in ("disk2_mass", "mass1_mass", "disk7_mass"):
+        assert f"(1.0/(p{names.index(name)}))" in source
 
 
 def test_mass_blocks_of_the_preset():

@@ -29,7 +29,11 @@ such as the AL-31F preset): every equation is scalar code.
 splits into independent blocks (a 3x3 block per eccentric disk with
 torsion, 1x1 elsewhere); each block is factorised by unrolled Gaussian
 elimination without pivoting, which is stable because M is symmetric
-positive definite. No symbolic inverse is ever formed. As fast as
+positive definite. No symbolic inverse is ever formed; parameter-only
+pivots are divided by through reciprocals computed in ``prepare()`` (a
+division's latency lies on the integrator's critical path), and
+``sin(2a)``, ``cos(2a)`` beside ``sin(a)``, ``cos(a)`` take the
+double-angle formulas (:func:`double_angles`). As fast as
 hand-written code for lumped models, but its size (and numba's compile
 time) grows with the square of a beam rotor's banded mass matrix.
 
@@ -116,6 +120,34 @@ def _hoist(expr, params, table):
     return expr.func(*[_hoist(a, params, table) for a in expr.args])
 
 
+def double_angles(exprs):
+    """``sin(2a)``, ``cos(2a)`` written through ``sin(a)``, ``cos(a)`` where that saves calls.
+
+    A manoeuvre's roll puts ``sin(θ)``, ``cos(θ)``, ``sin(2θ)`` and
+    ``cos(2θ)`` in one equation: four calls of the maths library, each worth
+    about ten multiplications, where two and the double-angle formulas do.
+    Rewritten only where at least three of the four occur, so the number of
+    calls always drops.
+    """
+    trig = set()
+    for e in exprs:
+        trig |= e.atoms(sp.sin, sp.cos)
+    args = {a.args[0] for a in trig}
+    rewrite = {}
+    for a in args:
+        half = a / 2
+        if half not in args:
+            continue
+        present = {sp.sin(a), sp.cos(a), sp.sin(half), sp.cos(half)} & trig
+        if len(present) >= 3:
+            s, c = sp.sin(half), sp.cos(half)
+            rewrite[sp.sin(a)] = 2 * s * c
+            rewrite[sp.cos(a)] = c * c - s * s
+    if not rewrite:
+        return list(exprs)
+    return [e.xreplace(rewrite) for e in exprs]
+
+
 def _name_power_bases(replacements, reduced):
     """Give the base of every ``b**(3/2)``-like power a name, so it prints as ``b*sqrt(b)``."""
     counter = iter(range(10**9))
@@ -148,23 +180,35 @@ def _name_power_bases(replacements, reduced):
 
 
 class _BlockFactor:
-    """Unrolled LU factorisation (no pivoting: M is SPD) of one mass-matrix block."""
+    """Unrolled LU factorisation (no pivoting: M is SPD) of one mass-matrix block.
 
-    def __init__(self, block, mass_name):
+    Divisions cost several multiplications: a pivot that is a parameter-only
+    mass entry is divided by through its reciprocal from ``reciprocal`` (mass
+    name -> name of ``1/m`` among the prepared values, computed once per
+    parameter set); any other pivot used more than once gets its reciprocal
+    computed once per evaluation.
+    """
+
+    def __init__(self, block, mass_name, reciprocal=None):
         self.block = block
         size = len(block)
         self.lines = []
         A = [[mass_name.get((min(block[r], block[c]), max(block[r], block[c]))) for c in range(size)]
              for r in range(size)]
+        self.inverse = {}  # k -> name of 1/pivot, where the pivot is divided by through it
         self.lower = {}  # (r, k) -> multiplier name
         count = 0
         for k in range(size):
-            for r in range(k + 1, size):
-                if A[r][k] is None:
-                    continue
+            below = [r for r in range(k + 1, size) if A[r][k] is not None]
+            if reciprocal and A[k][k] in reciprocal:
+                self.inverse[k] = reciprocal[A[k][k]]
+            elif below:
+                self.inverse[k] = f"_i{block[0]}_{k}"
+                self.lines.append(f"    {self.inverse[k]} = 1.0 / {A[k][k]}")
+            for r in below:
                 count += 1
                 factor = f"_l{block[0]}_{count}"
-                self.lines.append(f"    {factor} = {A[r][k]} / {A[k][k]}")
+                self.lines.append(f"    {factor} = {A[r][k]}*{self.inverse[k]}")
                 self.lower[(r, k)] = factor
                 for c in range(k + 1, size):
                     if A[k][c] is None:
@@ -196,9 +240,21 @@ class _BlockFactor:
             if b[k] is None and not terms:
                 continue
             x[k] = f"_x{tag}_{block[k]}"
-            lines.append(f"    {x[k]} = ({b[k] if b[k] is not None else '0.0'}{''.join(terms)}) / {self.upper[k][k]}")
+            value = f"({b[k] if b[k] is not None else '0.0'}{''.join(terms)})"
+            lines.append(f"    {x[k]} = {value}*{self.inverse[k]}" if k in self.inverse
+                         else f"    {x[k]} = {value} / {self.upper[k][k]}")
             lines.append(out(block[k], x[k]))
         return lines, x
+
+
+def _kept_pivots(blocks, keys):
+    """The diagonal mass entries that the unrolled elimination divides by as they are (not updated first)."""
+    names = {key: f"m{key[0]}_{key[1]}" for key in keys}
+    kept = []
+    for block in blocks:
+        upper = _BlockFactor(block, names).upper
+        kept += [(b, b) for k, b in enumerate(block) if (b, b) in names and upper[k][k] == names[(b, b)]]
+    return kept
 
 
 STRUCTURED_FROM = 40
@@ -332,7 +388,10 @@ def generate(eom, structure_key="", jacobian=True, mode="auto"):
     switch_exprs_raw = [g for _, g in eom.switches]
     table = {}
     exprs = ([M[key] for key in mass_keys] + f + list(df.values()) + list(dM.values()) + switch_exprs_raw)
-    exprs = [_hoist(e, param_set, table) for e in exprs]
+    exprs = [_hoist(e, param_set, table) for e in double_angles(exprs)]
+    # 1/m of every parameter-only diagonal mass entry, among the prepared values: a multiplication per use
+    reciprocals = {(a, b): _hoist(1 / M[a, b], param_set, table) for (a, b) in _kept_pivots(blocks, mass_keys)
+                   if M[a, b].free_symbols <= param_set}
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="none")
     replacements, reduced = _name_power_bases(replacements, reduced)
     it = iter(reduced)
@@ -378,10 +437,11 @@ def generate(eom, structure_key="", jacobian=True, mode="auto"):
             name = f"m{key[0]}_{key[1]}"
             lines.append(f"    {name} = {printer.doprint(e)}")
             mass_name[key] = name
+        reciprocal = {mass_name[key]: printer.doprint(r) for key, r in reciprocals.items()}
         for i, e in enumerate(f_exprs):
             lines.append(f"    f{i} = {printer.doprint(e)}")
         for block in blocks:
-            factor = _BlockFactor(block, mass_name)
+            factor = _BlockFactor(block, mass_name, reciprocal)
             factors[block] = factor
             lines += factor.lines
             solve_lines, x = factor.solve([f"f{i}" for i in block], out_acc, "a")
@@ -390,14 +450,14 @@ def generate(eom, structure_key="", jacobian=True, mode="auto"):
         return lines, factors, acc
 
     # rhs(): the per-evaluation work
-    body = prelude("rhs", "dydt", mass_exprs + f_exprs)
+    body = prelude("rhs", "dydt", mass_exprs + f_exprs + list(reciprocals.values()))
     body += [f"    dydt[{i}] = u{i}" for i in range(n)]
     lines, _, _ = mass_and_solve(lambda i, name: f"    dydt[{n + i}] = {name}")
     body += lines
 
     jac = []
     if jacobian:
-        jac = prelude("jac", "J", mass_exprs + f_exprs + df_exprs + dM_exprs)
+        jac = prelude("jac", "J", mass_exprs + f_exprs + df_exprs + dM_exprs + list(reciprocals.values()))
         jac += [f"    J[{i}, {n + i}] = 1.0" for i in range(n)]
         lines, factors, acc = mass_and_solve(lambda i, name: f"    a{i} = {name}")
         jac += lines
