@@ -5,6 +5,7 @@
     PYTHONPATH=. python bench/bench_fe.py --sections cold --cold-nodes 25 100
     PYTHONPATH=. python bench/bench_fe.py --sections codegen --codegen-nodes 4 6 8 10 13
     PYTHONPATH=. python bench/bench_fe.py --sections reduced --modes 20
+    PYTHONPATH=. python bench/bench_fe.py --sections solve --solve-nodes 10 25 50 100
 
 The rotor (issue 14, benchmark 5): a uniform 50 mm steel shaft of 1.5 m in
 ``nodes - 1`` Timoshenko elements (4 coordinates per node), two disks with
@@ -32,6 +33,10 @@ Sections (each prints ratios measured in this run, and the load average):
             numba compile time and one right-hand side inside the loop; the
             ``auto`` threshold (``rotorkit.codegen.generate.STRUCTURED_FROM``)
             comes from this table.
+``solve``   the structured code's two ways of applying ``M0^-1`` in the
+            right-hand side (dense product, band solve) by size; the
+            ``auto`` rule (``rotorkit.codegen.structured.band_pays``) comes
+            from this table.
 
 Times are wall-clock on a shared machine: quote the command, the load
 average printed, and compare ratios measured in one run.
@@ -325,20 +330,61 @@ def section_codegen(args):
         print(f"   {nodes:5d} {4 * nodes:6d} {row[0]:10.2f} {row[1]:12.2f} {row[2]:11.2f} {row[3]:13.2f}", flush=True)
 
 
+# ---------------------------------------------------------------- M0^-1: dense product or band solve
+def section_solve(args):
+    from rotorkit.codegen import cache
+    from rotorkit.codegen.structured import band_pays, generate_structured, mass_band, split_equations
+    from rotorkit.engines.rk_numba import CORE_SIGNATURE, integrate
+    from rotorkit.system import System
+
+    print(f"\nM0^-1 in the structured right-hand side: dense product against band solve (load {load():.1f}); one "
+          "evaluation inside the compiled loop, rotor with rub, 0.02 s from an offset start, median of "
+          f"{args.repeat}")
+    print(f"   {'nodes':>5s} {'coords':>6s} {'bandwidth':>9s} {'dense us':>9s} {'band us':>8s} {'band/dense':>10s}  auto")
+    os.environ.setdefault("ROTORKIT_CACHE_DIR", tempfile.mkdtemp(prefix="rk-bench-fe-"))
+    for nodes in args.solve_nodes:
+        model = fe_rotor(nodes, name=f"solve{nodes}")
+        eom = model.equations()
+        _, width = mass_band(split_equations(eom))
+        systems = []
+        for solve in ("dense", "band"):
+            key = f"{model.structure_key}_bench_{solve}"
+            module = cache.store(key, generate_structured(eom, key, solve=solve).source)
+            core = cache.jit(module, "rhs", error_model="numpy")
+            core.compile(CORE_SIGNATURE.args)
+            systems.append(System(model, module, "numba", core))
+        y0 = systems[0].initial_state(**{f"x{model.elements[-1].station}": 2 * CLEARANCE})
+        a, b = (s.rhs(0.01, y0) for s in systems)
+        assert np.abs(a - b).max() <= 1e-12 * np.abs(a).max(), "band and dense right-hand sides differ"
+        row = []
+        for system in systems:
+            p = system.within(0.0, 0.02).prepared_parameters
+            integrate(system.core, 0.0, 0.002, y0, p, np.array([0.002]))
+            med, _, _, sol = median_time(lambda: integrate(system.core, 0.0, 0.02, y0, p, np.array([0.02])),
+                                         args.repeat)
+            row.append(med / sol.nfev * 1e6)
+        n = len(model.coordinate_names)
+        auto = "band" if band_pays(n, width) else "dense"
+        print(f"   {nodes:5d} {n:6d} {width:9d} {row[0]:9.2f} {row[1]:8.2f} {row[1] / row[0]:10.2f}  {auto}",
+              flush=True)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--nodes", type=int, default=25, help="rotor size of the run section (default 25)")
     parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
-    parser.add_argument("--sections", nargs="+", default=["run", "cold"], choices=["run", "cold", "codegen", "reduced"])
+    parser.add_argument("--sections", nargs="+", default=["run", "cold"],
+                        choices=["run", "cold", "codegen", "reduced", "solve"])
     parser.add_argument("--modes", type=int, default=20, help="interior modes of the reduced section (default 20)")
     parser.add_argument("--cold-nodes", type=int, nargs="+", default=[25, 100])
     parser.add_argument("--codegen-nodes", type=int, nargs="+", default=[4, 6, 8, 10, 13])
+    parser.add_argument("--solve-nodes", type=int, nargs="+", default=[10, 25, 50, 100])
     args = parser.parse_args(argv)
     os.environ.setdefault("ROTORKIT_CACHE_DIR", tempfile.mkdtemp(prefix="rk-bench-fe-"))
     print(f"bench_fe: {os.uname().nodename}, {os.cpu_count()} cores, load average {os.getloadavg()}")
     for section in args.sections:
         {"run": section_run, "cold": section_cold, "codegen": section_codegen,
-         "reduced": section_reduced}[section](args)
+         "reduced": section_reduced, "solve": section_solve}[section](args)
 
 
 if __name__ == "__main__":

@@ -11,7 +11,8 @@ manoeuvre loads, eccentric torsional disks). This module splits them:
   speed profile); kept as sparse matrices, one per time factor, whose values
   ``prepare()`` evaluates once per parameter set;
 * **constant mass matrix** ``M0 = M(q = 0, t = 0)``: ``prepare()`` evaluates
-  it and stores its inverse (dense: see :func:`generate_structured` for why);
+  it and stores its inverse and, for larger models, its band Cholesky factor
+  (:func:`generate_structured`, :func:`band_pays`);
 * **local part**: what remains of ``F`` (rows ``L``), written as scalar
   generated code as in the unrolled path, and applied through the columns
   ``M0^-1[:, L]``;
@@ -54,6 +55,25 @@ BLOCK_INVERSE = '''def _spd_inverse(a):
     ci = np.linalg.inv(c)
     out = (ci.T @ ci) * d[:, None] * d[None, :]
     return 0.5 * (out + out.T)
+
+
+def _band_factor(a, b):
+    """Cholesky factor of the SPD band matrix ``a`` (half-bandwidth ``b``) in band storage; NaN if not SPD.
+
+    Row k holds ``1 / L[k, k]`` in column 0 and ``L[k, k - d]`` in column d.
+    """
+    n = a.shape[0]
+    lb = np.zeros((n, b + 1))
+    for k in range(n):
+        for d in range(min(b, k), 0, -1):
+            j = k - d
+            v = a[k, j] - sum(lb[k, d + e] * lb[j, e] for e in range(1, min(b - d, j) + 1))
+            lb[k, d] = v * lb[j, 0]
+        v = a[k, k] - sum(lb[k, d] * lb[k, d] for d in range(1, min(b, k) + 1))
+        if not (v > 0.0 and np.isfinite(v)):
+            return np.full((n, b + 1), np.nan)
+        lb[k, 0] = 1.0 / np.sqrt(v)
+    return lb
 
 
 def _block_inverse(m0, r, s):
@@ -178,15 +198,50 @@ def _tuple(values):
     return "(" + ", ".join(str(int(v)) for v in values) + ("," if len(values) == 1 else "") + ")"
 
 
-def generate_structured(eom, structure_key="", jacobian=True):
+SOLVES = ("auto", "dense", "band")
+
+
+def mass_band(split):
+    """(order, half-bandwidth) of ``M0`` on the constant-mass coordinates, in reverse Cuthill-McKee order."""
+    import numpy as np
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import reverse_cuthill_mckee
+
+    rows = [i for i in range(split.n) if i not in split.S]
+    index = {i: k for k, i in enumerate(rows)}
+    pairs = [(index[a], index[b]) for (a, b) in split.mass0 if a in index and b in index]
+    if not rows:
+        return (), 0
+    a, b = zip(*pairs) if pairs else ((), ())
+    pattern = csr_matrix((np.ones(len(pairs)), (a, b)), shape=(len(rows), len(rows)))
+    perm = reverse_cuthill_mckee(pattern + pattern.T, symmetric_mode=True)
+    position = np.empty(len(rows), dtype=int)
+    position[perm] = np.arange(len(rows))
+    width = max((abs(int(position[i]) - int(position[j])) for i, j in pairs), default=0)
+    return tuple(rows[k] for k in perm), width
+
+
+def band_pays(n_rows, width):
+    """Whether the band solve beats the dense ``M0^-1`` product in the right-hand side.
+
+    About ``4 n (b + 1)`` multiply-adds in short indirect loops against ``n^2``
+    in one vectorised loop; measured (``bench/bench_fe.py --sections solve``,
+    beam rotors with ``b = 3``): even at 40 coordinates, 0.99 at 100, 0.72 at
+    200, 0.38 at 400. From ``n = 16 (b + 1)`` on.
+    """
+    return 16 * (width + 1) <= n_rows
+
+
+def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
     """Generate the structured module source for ``eom`` (see the module docstring).
 
-    Why a dense ``M0^-1``: ``M0`` is banded (beam elements) and its inverse is
-    dense, but one dense product ``M0^-1 f`` (``n^2`` multiply-adds in a
-    vectorised loop) costs less than a generated banded solve for the sizes
-    this path serves (``bench/bench_fe.py`` measures the right-hand side), needs
-    no fill-in bookkeeping, and gives the Jacobian's ``M0^-1 K`` columns
-    directly.
+    ``solve`` picks how ``rhs`` applies ``M0^-1``: ``"dense"``, one product
+    with the stored inverse (``n^2`` multiply-adds in a vectorised loop), or
+    ``"band"``, forward and back substitution with the band Cholesky factor
+    of ``M0`` in reverse Cuthill-McKee order (``4 n (b + 1)`` for half-bandwidth
+    ``b``; a beam rotor's ``b`` is a few coordinates); ``"auto"`` takes the
+    band where :func:`band_pays`. The Jacobian always uses the dense inverse,
+    whose columns ``M0^-1 K`` it needs anyway.
 
     Returns
     -------
@@ -194,6 +249,10 @@ def generate_structured(eom, structure_key="", jacobian=True):
     """
     from .generate import GeneratedCode, _BlockFactor, _hoist, _name_power_bases, function_prelude, module_header
 
+    from ..errors import ParameterError
+
+    if solve not in SOLVES:
+        raise ParameterError(f"solve={solve!r} is unknown; expected 'auto', 'dense' or 'band'")
     split = Split(eom)
     n, t = eom.n, eom.t
     q, u = eom.coordinates, eom.speeds
@@ -259,6 +318,10 @@ def generate_structured(eom, structure_key="", jacobian=True):
     offset += n * n
     off_h, off_pm = offset, offset + ns * ns
     offset += ns * ns + n * ns
+    order, width = mass_band(split)
+    band = solve == "band" or (solve == "auto" and band_pays(len(order), width))
+    off_band = offset
+    offset += len(order) * (width + 1) if band else 0
     n_prepared = offset
 
     # prepare(): parameters, hoisted subexpressions, matrix values, M0^-1
@@ -293,8 +356,14 @@ def generate_structured(eom, structure_key="", jacobian=True):
         f"    out[{off_h}:{off_h + ns * ns}] = h.ravel()",
         f"    out[{off_pm}:{off_pm + n * ns}] = pm.ravel()",
     ]
-    if has_f0:
+    if has_f0 and band:  # the constant forces join f before the solve
+        prep += [f"    out[{off_f0}:{off_f0 + n}] = f0"]
+    elif has_f0:
         prep += [f"    out[{off_f0}:{off_f0 + n}] = w @ f0", f"    out[{off_f0 + n}:{off_f0 + n + ns}] = -(pm.T @ f0)"]
+    if band:
+        prep += [f"    order = np.array({list(order)!r}, dtype=np.int64)",
+                 f"    out[{off_band}:{off_band + len(order) * (width + 1)}] = "
+                 f"_band_factor(m0[np.ix_(order, order)], {width}).ravel()"]
     prep += [f"    out[{n_prepared}] = -1e300  # time window of the equations, see rhs()",
              f"    out[{n_prepared + 1}] = 1e300", "    return out"]
 
@@ -325,6 +394,8 @@ def generate_structured(eom, structure_key="", jacobian=True):
 
     def accelerations(target):
         """Lines computing q'' into ``target(i)`` (a string for index expression i)."""
+        if band:
+            return band_accelerations(target)
         lines = [f"    s{k} = {pr(e)}" for k, e in enumerate(factor_exprs)]
         lines += [f"    fl{i} = {pr(e)}" for i, e in zip(L, floc_exprs)]
         init = f"p[{off_f0} + i]" if has_f0 else "0.0"
@@ -349,6 +420,42 @@ def generate_structured(eom, structure_key="", jacobian=True):
                 lines += [f"    for i in range({n}):",
                           f"        {target('i')} += p[{off_minv} + {i} * {n} + i] * fl{i}"]
             lines += [f"    g{r} -= p[{off_pm + i * ns + r}] * fl{i}" for r in range(ns)]
+        if ns:
+            factor_lines, factor = schur_factor()
+            lines += factor_lines + schur_solve(factor, [f"g{r}" for r in range(ns)], target, "x")
+        return lines
+
+    def band_accelerations(target):
+        """As ``accelerations``, with f assembled first and ``M0[R, R] z = f[R]`` solved in place, in band order."""
+        lines = [f"    s{k} = {pr(e)}" for k, e in enumerate(factor_exprs)]
+        lines += [f"    fl{i} = {pr(e)}" for i, e in zip(L, floc_exprs)]
+        lines += [f"    for j in range({n}):", f"        fj = {f'p[{off_f0} + j]' if has_f0 else '0.0'}"]
+        for k, (ptr, _, _) in enumerate(group_csr):
+            if not ptr[-1]:
+                continue
+            acc = "fj" if k == 0 else "g"
+            if k:
+                lines.append("        g = 0.0")
+            lines += [f"        for e in range(PTR{k}[j], PTR{k}[j + 1]):",
+                      f"            {acc} += p[{group_off[k]} + e] * y[COL{k}[e]]"]
+            if k:
+                lines.append(f"        fj += s{k - 1} * g")
+        lines.append(f"        {target('j')} = fj")
+        lines += [f"    {target(str(i))} += fl{i}" for i in L]
+        if ns:  # g = -Pm^T f, then the Schur coordinates leave the band solve
+            lines += [f"    g{r} = 0.0" for r in range(ns)]
+            lines += [f"    for i in range({n}):", f"        fi = {target('i')}"]
+            lines += [f"        g{r} -= p[{off_pm} + i * {ns} + {r}] * fi" for r in range(ns)]
+            lines += [f"    {target(str(a))} = 0.0" for a in S]
+        w = width + 1
+        lines += [f"    for k in range({len(order)}):", f"        v = {target('ORDER[k]')}",
+                  f"        for d in range(1, min({width}, k) + 1):",
+                  f"            v -= p[{off_band} + k * {w} + d] * {target('ORDER[k - d]')}",
+                  f"        {target('ORDER[k]')} = v * p[{off_band} + k * {w}]",
+                  f"    for k in range({len(order) - 1}, -1, -1):", f"        v = {target('ORDER[k]')}",
+                  f"        for d in range(1, min({width}, {len(order) - 1} - k) + 1):",
+                  f"            v -= p[{off_band} + (k + d) * {w} + d] * {target('ORDER[k + d]')}",
+                  f"        {target('ORDER[k]')} = v * p[{off_band} + k * {w}]"]
         if ns:
             factor_lines, factor = schur_factor()
             lines += factor_lines + schur_solve(factor, [f"g{r}" for r in range(ns)], target, "x")
@@ -415,7 +522,10 @@ def generate_structured(eom, structure_key="", jacobian=True):
                            imports=("numpy as np",)) + [
         f"LOCAL_ROWS = {_tuple(L)}",
         f"MASS_STATE_DEPENDENT = {_tuple(S)}",
+        f"MASS_SOLVE = {'band' if band else 'dense'!r}",
     ]
+    if band:
+        header.append(f"ORDER = np.array({_tuple(order)}, dtype=np.int64)")
     for k, (ptr, cols, _) in enumerate(group_csr):
         header.append(f"PTR{k} = np.array({_tuple(ptr)}, dtype=np.int64)")
         header.append(f"COL{k} = np.array({_tuple(cols) if cols else '()'}, dtype=np.int64)")
