@@ -96,8 +96,9 @@ def test_result_indexed_by_number_says_how(system):
 
 
 def test_subnormal_mass_is_a_parameter_error():
-    system = jeffcott(mass=1e-320).compile(backend="python")
-    with pytest.raises(ParameterError, match=r"disk1_mass = 9\.99989e-321.*too small"):
+    # refused when compiled (its reciprocal, prepared once per parameter set, overflows) or else when run
+    with pytest.raises(ParameterError, match=r"disk1_mass = 9\.99989e-321.*(too close to zero|too small)"):
+        system = jeffcott(mass=1e-320).compile(backend="python")
         rk.simulate(system, (0.0, 0.01))
 
 
