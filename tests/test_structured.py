@@ -73,13 +73,13 @@ def test_random_beam_rotor_with_rub(seed):
     assert_same(unrolled, structured, states, (0.0, 0.37))
 
 
-def test_eccentric_torsional_disk_on_beams():
-    """State-dependent mass coupled to the consistent beam mass: the Woodbury correction on a banded M0."""
+def eccentric_disk_on_beams(elements, length=0.3):
+    """An eccentric torsional disk (state-dependent mass) between beam elements, with a rub."""
     steel = Material.steel()
-    model = rk.Model([
+    return rk.Model([
         rk.Rotor(name="R", stations=(1, 2, 3, 4), speed=200.0),
-        BeamSegment(start=1, end=2, length=0.3, outer_diameter=0.05, material=steel, elements=2),
-        BeamSegment(start=2, end=3, length=0.3, outer_diameter=0.05, material=steel, elements=2),
+        BeamSegment(start=1, end=2, length=length, outer_diameter=0.05, material=steel, elements=elements),
+        BeamSegment(start=2, end=3, length=length, outer_diameter=0.05, material=steel, elements=elements),
         rk.Disk(station=2, mass=8.0, radius=0.12, eccentricity=0.01, torsion=True),
         rk.LumpedMass(station=4, mass=1.0),
         rk.ShaftSegment(start=2, end=4, bending_stiffness=5e4, torsional_stiffness=300.0, torsional_damping=0.2),
@@ -88,6 +88,11 @@ def test_eccentric_torsional_disk_on_beams():
         rk.ElasticSupport(station=4, stiffness=1e4),
         rk.RubStator(station=2, clearance=1e-5, contact_stiffness=1e7, friction_coefficient=0.1),
     ])
+
+
+def test_eccentric_torsional_disk_on_beams():
+    """State-dependent mass coupled to the consistent beam mass: the Woodbury correction on a banded M0."""
+    model = eccentric_disk_on_beams(elements=2)
     unrolled, structured = both(model)
     assert structured._module.MASS_STATE_DEPENDENT
     n = len(model.coordinate_names)
@@ -123,20 +128,8 @@ def test_band_and_dense_mass_solves_equal_unrolled(solve):
 
 
 def test_band_solve_with_state_dependent_mass():
-    """The Woodbury correction around the band solve: an eccentric torsional disk between beam elements."""
-    steel = Material.steel()
-    model = rk.Model([
-        rk.Rotor(name="R", stations=(1, 2, 3, 4), speed=200.0),
-        BeamSegment(start=1, end=2, length=0.4, outer_diameter=0.05, material=steel, elements=4),
-        BeamSegment(start=2, end=3, length=0.4, outer_diameter=0.05, material=steel, elements=4),
-        rk.Disk(station=2, mass=8.0, radius=0.12, eccentricity=0.01, torsion=True),
-        rk.LumpedMass(station=4, mass=1.0),
-        rk.ShaftSegment(start=2, end=4, bending_stiffness=5e4, torsional_stiffness=300.0, torsional_damping=0.2),
-        rk.ElasticSupport(station=1, stiffness=1e6),
-        rk.ElasticSupport(station=3, stiffness=1e6),
-        rk.ElasticSupport(station=4, stiffness=1e4),
-        rk.RubStator(station=2, clearance=1e-5, contact_stiffness=1e7, friction_coefficient=0.1),
-    ])
+    """The Woodbury correction around the band solve."""
+    model = eccentric_disk_on_beams(elements=4, length=0.4)
     unrolled, band = model.compile(backend="python", codegen="unrolled"), structured_with(model, "band")
     assert band._module.MASS_STATE_DEPENDENT
     alpha = model.coordinate_names.index("alpha2")

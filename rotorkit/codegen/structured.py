@@ -392,16 +392,14 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
             lines += [f"{indent}    for i in range({n}):", f"{indent}        {target('i')} -= " + " + ".join(terms)]
         return lines
 
-    def accelerations(target):
-        """Lines computing q'' into ``target(i)`` (a string for index expression i)."""
-        if band:
-            return band_accelerations(target)
-        lines = [f"    s{k} = {pr(e)}" for k, e in enumerate(factor_exprs)]
-        lines += [f"    fl{i} = {pr(e)}" for i, e in zip(L, floc_exprs)]
-        init = f"p[{off_f0} + i]" if has_f0 else "0.0"
-        lines += [f"    for i in range({n}):", f"        {target('i')} = {init}"]
-        lines += [f"    g{r} = " + (f"p[{off_f0 + n + r}]" if has_f0 else "0.0") for r in range(ns)]
-        lines += [f"    for j in range({n}):", "        fj = 0.0"]
+    def local_lines():
+        """The time factors ``s_k`` and the local forces ``fl_i``."""
+        return ([f"    s{k} = {pr(e)}" for k, e in enumerate(factor_exprs)]
+                + [f"    fl{i} = {pr(e)}" for i, e in zip(L, floc_exprs)])
+
+    def row_force_lines(init):
+        """Opens ``for j in range(n):`` with ``fj`` = ``init`` + row j of the linear part (every time factor)."""
+        lines = [f"    for j in range({n}):", f"        fj = {init}"]
         for k, (ptr, _, _) in enumerate(group_csr):
             if not ptr[-1]:
                 continue
@@ -412,6 +410,16 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
                       f"            {acc} += p[{group_off[k]} + e] * y[COL{k}[e]]"]
             if k:
                 lines.append(f"        fj += s{k - 1} * g")
+        return lines
+
+    def accelerations(target):
+        """Lines computing q'' into ``target(i)`` (a string for index expression i)."""
+        if band:
+            return band_accelerations(target)
+        init = f"p[{off_f0} + i]" if has_f0 else "0.0"
+        lines = local_lines() + [f"    for i in range({n}):", f"        {target('i')} = {init}"]
+        lines += [f"    g{r} = " + (f"p[{off_f0 + n + r}]" if has_f0 else "0.0") for r in range(ns)]
+        lines += row_force_lines("0.0")
         lines += ["        if fj != 0.0:", f"            for i in range({n}):",
                   f"                {target('i')} += p[{off_minv} + j * {n} + i] * fj"]
         lines += [f"            g{r} -= p[{off_pm} + j * {ns} + {r}] * fj" for r in range(ns)]
@@ -427,19 +435,7 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
 
     def band_accelerations(target):
         """As ``accelerations``, with f assembled first and ``M0[R, R] z = f[R]`` solved in place, in band order."""
-        lines = [f"    s{k} = {pr(e)}" for k, e in enumerate(factor_exprs)]
-        lines += [f"    fl{i} = {pr(e)}" for i, e in zip(L, floc_exprs)]
-        lines += [f"    for j in range({n}):", f"        fj = {f'p[{off_f0} + j]' if has_f0 else '0.0'}"]
-        for k, (ptr, _, _) in enumerate(group_csr):
-            if not ptr[-1]:
-                continue
-            acc = "fj" if k == 0 else "g"
-            if k:
-                lines.append("        g = 0.0")
-            lines += [f"        for e in range(PTR{k}[j], PTR{k}[j + 1]):",
-                      f"            {acc} += p[{group_off[k]} + e] * y[COL{k}[e]]"]
-            if k:
-                lines.append(f"        fj += s{k - 1} * g")
+        lines = local_lines() + row_force_lines(f"p[{off_f0} + j]" if has_f0 else "0.0")
         lines.append(f"        {target('j')} = fj")
         lines += [f"    {target(str(i))} += fl{i}" for i in L]
         if ns:  # g = -Pm^T f, then the Schur coordinates leave the band solve
