@@ -102,22 +102,41 @@ def _banded_order(M, group):
 
 
 def _hoist(expr, params, table):
-    """Replace parameter-only subexpressions of ``expr`` by symbols kept in ``table``."""
-    if expr.is_Atom:
-        return expr
-    if expr.free_symbols and expr.free_symbols <= params:
-        if expr not in table:
-            table[expr] = sp.Symbol(f"_k{len(table)}", real=True)
-        return table[expr]
-    if expr.is_Mul or expr.is_Add:
-        fixed = [a for a in expr.args if a.free_symbols <= params]
-        moving = [_hoist(a, params, table) for a in expr.args if not a.free_symbols <= params]
-        fixed_part = expr.func(*fixed) if fixed else None
-        if fixed_part is not None and not fixed_part.is_Atom:
-            fixed_part = _hoist(fixed_part, params, table)
-        args = moving + ([fixed_part] if fixed_part is not None else [])
-        return expr.func(*args, evaluate=False) if len(args) > 1 else args[0]
-    return expr.func(*[_hoist(a, params, table) for a in expr.args])
+    """Replace parameter-only subexpressions of ``expr`` by symbols kept in ``table``.
+
+    Every subtree's free symbols are computed once, bottom-up: sympy's
+    ``free_symbols`` walks the whole subtree on each call, which made this
+    quadratic in the expression's depth.
+    """
+    free = {}
+
+    def symbols(e):
+        found = free.get(e)
+        if found is None:
+            found = free[e] = e.free_symbols if e.is_Atom else frozenset().union(*map(symbols, e.args))
+        return found
+
+    def fixed(e):
+        return symbols(e) <= params
+
+    def hoist(e):
+        if e.is_Atom:
+            return e
+        if symbols(e) and fixed(e):
+            if e not in table:
+                table[e] = sp.Symbol(f"_k{len(table)}", real=True)
+            return table[e]
+        if e.is_Mul or e.is_Add:
+            fixed_args = [a for a in e.args if fixed(a)]
+            moving = [hoist(a) for a in e.args if not fixed(a)]
+            fixed_part = e.func(*fixed_args) if fixed_args else None
+            if fixed_part is not None and not fixed_part.is_Atom:
+                fixed_part = hoist(fixed_part)
+            args = moving + ([fixed_part] if fixed_part is not None else [])
+            return e.func(*args, evaluate=False) if len(args) > 1 else args[0]
+        return e.func(*map(hoist, e.args))
+
+    return hoist(expr)
 
 
 def double_angles(exprs):
