@@ -122,8 +122,8 @@ def bench_start(repeat=3):
 
     Cold runs compile the integration loop in a second process while the model is derived and compiled
     (``rotorkit.engines.rk_numba.compile_loop_in_background``); "serial" turns that off
-    (``ROTORKIT_BACKGROUND_COMPILE=0``), so its CPU time is all the work of a cold start. The CPU time of a
-    cold run counts the command's own process only, not the background compilation (not waited for by it).
+    (``ROTORKIT_BACKGROUND_COMPILE=0``). CPU times are those of the command and the processes it waited for
+    (the background compilation included: the run collects it before integrating).
     """
     print(f"\n3. `rotorkit run al31f` (0-6 s, plots and signals written), cold vs warm, median of {repeat}:")
     base = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "ROTORKIT_BACKGROUND_COMPILE")}

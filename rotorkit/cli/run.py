@@ -33,11 +33,11 @@ def main(args):
     from ..simulate import simulate
 
     start = time.perf_counter()
+    _compile_integrator_ahead(args)  # first: it has the longest way to go, and the preset's import is its head start
     module, model, _ = load_preset(args)  # reads the scene (a model file names args.preset); derives nothing
     out = check_output_folder(args.out or f"rotorkit-out/{args.preset}")  # before any derivation or run
     outputs = getattr(module, "OUTPUTS", {})
     t_end = args.t_end if args.t_end is not None else outputs.get("t_end", 1.0)
-    _compile_integrator_ahead(args)
     system = model.compile(backend=args.backend)
     compiled = time.perf_counter()
     print(f"{model!r}\ncompiled in {compiled - start:.2f} s (backend {system.backend})")
@@ -46,7 +46,6 @@ def main(args):
     if args.check_convergence:
         options["check_convergence"] = True
     measurement = None
-    _import_plotting_in_background()  # while the compiled loop runs without the GIL
     try:
         if outputs.get("sensors"):  # the preset's virtual sensors, each at its own rate
             from ..sensors import measure
@@ -94,28 +93,6 @@ def _compile_integrator_ahead(args):
     from ..engines.rk_numba import compile_loop_in_background
 
     return compile_loop_in_background()
-
-
-def _import_plotting_in_background():
-    """Import matplotlib (about half a second) in a thread, so it happens while the simulation runs.
-
-    The compiled engine releases the GIL, so on a second core the import costs
-    no wall time; a later import of the same modules waits for this one.
-    """
-    import threading
-
-    def load():
-        try:
-            import matplotlib.backends.backend_agg  # noqa: F401
-            import matplotlib.figure  # noqa: F401
-
-            from ..plotting import basic  # noqa: F401
-        except Exception:  # noqa: BLE001 - the import is tried again where the figures are drawn
-            pass
-
-    thread = threading.Thread(target=load, name="rotorkit-import-plotting", daemon=True)
-    thread.start()
-    return thread
 
 
 def _keep(result, out, name):

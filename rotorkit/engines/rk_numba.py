@@ -905,8 +905,21 @@ def _compiled_loop():
     """
     from ..codegen.cache import shared_lock
 
-    with shared_lock("rk_loop"):
+    with shared_lock("rk_loop") as lock:
+        if lock is not None:
+            _reap_background()
         return _build_loop()
+
+
+def _reap_background():
+    """Collect the processes `compile_loop_in_background` started: holding the lock, they have finished or are exiting."""
+    import subprocess
+
+    for process in _BACKGROUND:
+        try:
+            process.wait(timeout=5)
+        except subprocess.TimeoutExpired:  # pragma: no cover - it released the lock, so it is on its way out
+            pass
 
 
 #: set ROTORKIT_BACKGROUND_COMPILE=0 to never compile the loop in another process
