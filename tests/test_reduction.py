@@ -261,3 +261,44 @@ def test_gravity_sag_is_exact_with_few_modes():
         assert reduced.coordinate_names[-1] == "eta_static"
         q = reduced.basis @ static_equilibrium(reduced)
         np.testing.assert_allclose(q, q_full, rtol=0, atol=1e-9 * np.abs(q_full).max())
+
+
+def build_beam(contact_stiffness=2e6):
+    """Sweep scene: the 5-node beam rotor with its rub stator's contact stiffness as the swept parameter."""
+    elements = [e for e in beam_rotor(5).elements if not isinstance(e, rk.RubStator)]
+    station = elements[-3].station  # the first disk's
+    elements.append(rk.RubStator(station=station, clearance=1e-5, contact_stiffness=contact_stiffness,
+                                 friction_coefficient=0.1))
+    return rk.Model(elements, name="reduction_sweep_beam")
+
+
+build_beam.OUTPUTS = {"t_end": 0.04, "bending": "x2"}
+
+
+@pytest.mark.skipif(not NUMBA, reason="numba not installed")
+def test_sweep_runs_reduced_points(tmp_path):
+    """simulate_options={'reduce': m}: every point runs the reduced system; with all modes the stored spectra equal
+    the full sweep's; bad values fail before any point runs."""
+    from rotorkit.sweep import run_sweep
+
+    options = dict(rtol=1e-10, atol=1e-14, sample_rate=4000.0)
+    # a run-away limit of 1 m: simulate's bound also applies to the full model's beam rotations (thx, thy), which the
+    # reduced one holds in its modal coordinates
+    kwargs = dict(window=(0.01, 0.04), workers=1, signals=["x2", "x3"], orders=["1"], runaway_limit=1.0)
+    full = run_sweep(build_beam, "contact_stiffness", [1e6, 3e6], out_dir=tmp_path / "full",
+                     simulate_options=options, **kwargs)
+    reduced = run_sweep(build_beam, "contact_stiffness", [1e6, 3e6], out_dir=tmp_path / "reduced",
+                        simulate_options=dict(options, reduce={"modes": 16}), **kwargs)
+    a, b = full["amplitude"].values, reduced["amplitude"].values
+    assert a.shape == b.shape and np.isfinite(a).sum() > 100  # NaN: padding beyond a point's spectrum
+    np.testing.assert_array_equal(np.isnan(b), np.isnan(a))
+    np.testing.assert_allclose(b, a, rtol=0, atol=1e-6 * np.nanmax(np.abs(a)))  # x3: interior, expanded
+    truncated = run_sweep(build_beam, "contact_stiffness", [1e6], out_dir=tmp_path / "truncated",
+                          simulate_options=dict(options, reduce=4), **kwargs)
+    assert np.isfinite(truncated["amplitude"].values).sum() > 50
+    with pytest.raises(ParameterError, match="modes=99"):
+        run_sweep(build_beam, "contact_stiffness", [1e6], out_dir=tmp_path / "bad", simulate_options={"reduce": 99},
+                  **kwargs)
+    with pytest.raises(ParameterError, match="expected a number of modes"):
+        run_sweep(build_beam, "contact_stiffness", [1e6], out_dir=tmp_path / "bad2",
+                  simulate_options={"reduce": {"mode": 3}}, **kwargs)

@@ -293,6 +293,10 @@ def run_point(task):
     except ParameterError as err:  # values this point's model refuses: a result, not a crash
         return _refused(task, f"the model refused the point's parameters: {err}", wall)
     system = model.compile(backend=s["backend"])
+    if s.get("reduce"):
+        from ..reduction import reduce
+
+        system = reduce(system, **s["reduce"])
     limits = _runaway_limits(model, s["runaway_limit"])
     status, message, when = "ok", "", None
     bound = min((limit for _, limit in limits), default=None)
@@ -303,6 +307,8 @@ def run_point(task):
         result, err = simulate(system, (0.0, s["t_end"]), bound=bound, **s["simulate_options"]), None
     except SimulationError as exc:
         result, err = exc.partial, exc
+    if s.get("reduce") and result is not None:
+        result = system.expand(result)
     sim_time = _time.perf_counter() - sim_start
     if err is not None:
         status, message, when = "failed", str(err), err.time

@@ -17,7 +17,8 @@ from .space import MAX_POINTS, as_space
 
 __all__ = ["run_sweep"]
 
-# keyword arguments of rotorkit.simulate a sweep may pass on (plus "backend" for compiling)
+# keyword arguments of rotorkit.simulate a sweep may pass on (plus "backend" for compiling, "reduce" for
+# rotorkit.reduce)
 _SIMULATE_KEYS = ("method", "rtol", "atol", "sample_rate", "max_step", "engine", "time_limit")
 
 
@@ -42,16 +43,34 @@ def _check_simulate_options(options, window):
         options = {}
     if not isinstance(options, Mapping):
         raise TypeError(f"simulate_options={options!r}: expected a dict of rotorkit.simulate keyword arguments")
-    unknown = sorted(set(options) - set(_SIMULATE_KEYS) - {"backend"})
+    unknown = sorted(set(options) - set(_SIMULATE_KEYS) - {"backend", "reduce"})
     if unknown:
-        raise TypeError(f"simulate_options has unknown keys {unknown}; allowed: {', '.join(_SIMULATE_KEYS)} and backend")
+        raise TypeError(f"simulate_options has unknown keys {unknown}; allowed: {', '.join(_SIMULATE_KEYS)}, backend "
+                        "and reduce")
     sample_rate = options.get("sample_rate", 10_000.0)
     if isinstance(sample_rate, numbers.Real) and (window[1] - window[0]) * sample_rate < 16:
         raise ParameterError(f"window={tuple(window)} holds fewer than 16 samples at sample_rate={sample_rate:g} Hz; "
                              "widen the window or raise the sample rate")
     options = dict(options)
     backend = options.pop("backend", "auto")
-    return json.loads(json.dumps(options, default=storage.json_default)), backend
+    reduction = _check_reduce(options.pop("reduce", None))
+    return json.loads(json.dumps(options, default=storage.json_default)), backend, reduction
+
+
+def _check_reduce(value):
+    """``simulate_options["reduce"]``: None, a number of modes, or ``{"modes": m, "keep": [...]}`` (rotorkit.reduce)."""
+    if value is None:
+        return None
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        value = {"modes": int(value)}
+    if not isinstance(value, Mapping) or "modes" not in value or set(value) - {"modes", "keep"}:
+        raise ParameterError(f"simulate_options['reduce']={value!r}: expected a number of modes or "
+                             "{'modes': m, 'keep': [coordinate names or stations]} (see rotorkit.reduce)")
+    out = {"modes": value["modes"]}
+    if value.get("keep") is not None:
+        keep = value["keep"]
+        out["keep"] = [keep] if isinstance(keep, (str, numbers.Integral)) else list(keep)
+    return json.loads(json.dumps(out))
 
 
 def _signal_parts(signal):
@@ -93,11 +112,15 @@ def _check_names(scene, space):
                                     f" (parameters: {', '.join(sorted(known))})"))
 
 
-def _warm_up(model, backend, options):
+def _warm_up(model, backend, options, reduction=None):
     """Derive, generate and JIT-compile a structure once here, so local workers load it from the disk caches."""
     from ..simulate import simulate
 
     system = model.compile(backend=backend)
+    if reduction:
+        from ..reduction import reduce
+
+        system = reduce(system, **reduction)  # bad modes or keep fail here, before any point runs
     try:
         simulate(system, (0.0, 1e-4), **{**options, "sample_rate": 1e5})
     except SimulationError:
@@ -164,8 +187,10 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
         (done/total, failures, ETA).
     simulate_options : dict, optional
         Keyword arguments of :func:`rotorkit.simulate` (``method``, ``rtol``,
-        ``atol``, ``sample_rate``, ``max_step``, ``engine``, ``time_limit``)
-        and ``backend``.
+        ``atol``, ``sample_rate``, ``max_step``, ``engine``, ``time_limit``),
+        ``backend``, and ``reduce``: a number of modes or ``{"modes": m,
+        "keep": [...]}`` to run every point on :func:`rotorkit.reduce` of its
+        system (results expanded to physical coordinates).
     runaway_limit : float, optional
         Displacement (m) past which a point counts as run away (default 10
         times the smallest rub clearance; ``math.inf`` disables the check).
@@ -218,7 +243,7 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
     if isinstance(poincare_revolutions, bool) or not isinstance(poincare_revolutions, numbers.Integral) \
             or not 1 <= poincare_revolutions <= 100_000:
         raise ParameterError(f"poincare_revolutions={poincare_revolutions!r}: expected an integer in 1..100000")
-    options, backend = _check_simulate_options(simulate_options, window)
+    options, backend, reduction = _check_simulate_options(simulate_options, window)
     if runaway_limit is not None:
         runaway_limit = _positive(runaway_limit, "runaway_limit", "a displacement > 0 (m) or None")
     if executor is not None and scheduler is not None:
@@ -258,6 +283,8 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
                 "poincare_signals": poincare, "poincare_revolutions": int(poincare_revolutions),
                 "poincare_rotor": poincare_rotor, "energy": bool(energy), "simulate_options": options,
                 "backend": backend, "runaway_limit": runaway_limit}
+    if reduction:  # only then: the settings (and the fingerprint of sweeps on disk) stay as they were without it
+        settings["reduce"] = reduction
     manifest = json.loads(json.dumps({
         "format": storage.MANIFEST_FORMAT, "scene": scene.describe(), "scene_name": scene.display,
         "space": space.describe(), "settings": settings,
@@ -270,7 +297,7 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
 
     client = connect(scheduler) if scheduler is not None else None
     try:
-        _warm_up(model, backend, options)
+        _warm_up(model, backend, options, settings.get("reduce"))
         if not has_manifest:
             storage.write_manifest(out_dir, manifest)
         counter = Progress(space.size, progress)
