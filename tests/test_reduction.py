@@ -302,3 +302,15 @@ def test_sweep_runs_reduced_points(tmp_path):
     with pytest.raises(ParameterError, match="expected a number of modes"):
         run_sweep(build_beam, "contact_stiffness", [1e6], out_dir=tmp_path / "bad2",
                   simulate_options={"reduce": {"mode": 3}}, **kwargs)
+
+
+def test_every_subpackage_is_shipped():
+    """pyproject's explicit package list holds rotorkit.reduction (and every other subpackage): an installed
+    rotorkit would otherwise lack it while tests from the source tree pass."""
+    import pathlib
+    import tomllib
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    listed = set(tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {".".join(p.parent.relative_to(root).parts) for p in (root / "rotorkit").rglob("__init__.py")}
+    assert "rotorkit.reduction" in found and found <= listed, sorted(found - listed)
