@@ -314,3 +314,12 @@ def test_every_subpackage_is_shipped():
     listed = set(tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
     found = {".".join(p.parent.relative_to(root).parts) for p in (root / "rotorkit").rglob("__init__.py")}
     assert "rotorkit.reduction" in found and found <= listed, sorted(found - listed)
+
+
+def test_docstring_examples():
+    import doctest
+
+    import rotorkit.reduction.system as module
+
+    failures, tried = doctest.testmod(module, verbose=False)
+    assert tried >= 5 and failures == 0

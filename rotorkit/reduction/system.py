@@ -286,9 +286,24 @@ def reduce(system_or_model, modes, *, keep=None, backend=None):
 
     Examples
     --------
+    A three-station rotor with a rub stator at its disk: the rub coordinates
+    stay physical, the four interior ones become two modes. (A disk's
+    unbalance is a local term: every disk's station stays physical.)
+
     >>> import rotorkit as rk
-    >>> reduced = rk.reduce(model, modes=20)                  # doctest: +SKIP
-    >>> result = reduced.expand(rk.simulate(reduced, (0, 1)))  # doctest: +SKIP
+    >>> model = rk.Model([rk.Rotor(name="R", stations=(1, 2, 3), speed=100.0),
+    ...                   rk.Disk(station=2, mass=2.0, radius=0.1)]
+    ...                  + [rk.LumpedMass(station=s, mass=1.0) for s in (1, 3)]
+    ...                  + [rk.ShaftSegment(start=s, end=s + 1, bending_stiffness=1e6) for s in (1, 2)]
+    ...                  + [rk.ElasticSupport(station=s, stiffness=1e5, damping=10.0) for s in (1, 3)]
+    ...                  + [rk.RubStator(station=2, clearance=1e-4, contact_stiffness=1e6)], name="doc_rub")
+    >>> reduced = reduce(model.compile(backend="python"), modes=2)
+    >>> reduced.boundary, reduced.coordinate_names
+    (('x2', 'y2'), ('x2', 'y2', 'eta1', 'eta2'))
+    >>> result = reduced.expand(rk.simulate(reduced, (0.0, 0.01), y0=reduced.initial_state(x2=2e-4),
+    ...                                     engine="scipy"))
+    >>> result.state_names[:6]
+    ('x1', 'x2', 'x3', 'y1', 'y2', 'y3')
     """
     model = getattr(system_or_model, "model", system_or_model)
     if not hasattr(model, "structure_key") or not hasattr(model, "equations"):
