@@ -323,3 +323,28 @@ def test_docstring_examples():
 
     failures, tried = doctest.testmod(module, verbose=False)
     assert tried >= 5 and failures == 0
+
+
+def test_analytic_jacobian_against_finite_differences(small):
+    """The generated reduced Jacobian (linear blocks + the local terms' derivatives) against central differences of
+    the reduced right-hand side, in and out of contact; with all modes it maps to the full Jacobian."""
+    reduced = rk.reduce(small, modes=5)
+    assert reduced.has_jacobian
+    states = random_reduced_states(reduced, 2, 12)
+    states[0][0] = 0.0  # the rub disk out of contact, then far in contact
+    states[1][0] = 1e-4
+    for z in states:
+        for compiled in (False, True) if NUMBA else (False,):  # plain Python and numba-compiled jac
+            J = reduced.jacobian(0.21, z, compiled=compiled)
+            fd = np.empty_like(J)
+            for j in range(z.size):
+                h = 1e-7 * max(abs(z[j]), 1e-6)
+                e = np.zeros(z.size)
+                e[j] = h
+                fd[:, j] = (reduced.rhs(0.21, z + e) - reduced.rhs(0.21, z - e)) / (2 * h)
+            np.testing.assert_allclose(J, fd, rtol=1e-5, atol=1e-6 * np.abs(fd).max())
+    full = rk.reduce(small, modes=16)
+    z = random_reduced_states(full, 1, 13)[0]
+    T = np.kron(np.eye(2), full.basis)
+    np.testing.assert_allclose(T @ full.jacobian(0.3, z) @ np.linalg.inv(T), small.jacobian(0.3, T @ z),
+                               rtol=1e-8, atol=1e-8 * np.abs(small.jacobian(0.3, T @ z)).max())

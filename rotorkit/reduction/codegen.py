@@ -75,13 +75,19 @@ def generate_reduced(eom, structure_key=""):
     position = {i: k for k, i in enumerate(boundary)}
     groups = [split.groups[sp.S.One]] + [split.groups[s] for s in factors]
 
+    states = list(split.states)
+    df = {}  # (local index, state index in the full state) -> d f_l / d state
+    for k, e in enumerate(f_loc):
+        for st in sorted(e.free_symbols & set(states), key=states.index):
+            df[(k, states.index(st))] = sp.diff(e, st)
     table = {}
-    exprs = [_hoist(e, param_set, table) for e in f_loc + factors + switch_raw]
+    exprs = [_hoist(e, param_set, table) for e in f_loc + factors + switch_raw + list(df.values())]
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="none")
     replacements, reduced = _name_power_bases(replacements, reduced)
     floc_exprs = reduced[: len(rows)]
     factor_exprs = reduced[len(rows): len(rows) + len(factors)]
-    switch_exprs = reduced[len(rows) + len(factors):]
+    switch_exprs = reduced[len(rows) + len(factors): len(rows) + len(factors) + len(switch_raw)]
+    df_exprs = reduced[len(rows) + len(factors) + len(switch_raw):]
     derived = list(table.items())
     n_base = n_params + len(derived)
 
@@ -156,6 +162,20 @@ def generate_reduced(eom, structure_key=""):
     for k in range(len(rows)):
         body += [f"    col = oq + {k} * R", "    for i in range(R):", f"        dydt[R + i] += p[col + i] * fl{k}"]
 
+    # jac(t, z, p, J): J (zeros on entry) = [[0, I], [A_0 + sum_k s_k A_k + Q d f_L / d z]]
+    jac = prelude("jac", "J", list(factor_exprs) + list(df_exprs))
+    jac += [f"    s{k} = {pr(e)}" for k, e in enumerate(factor_exprs)]
+    jac += ["    R2 = 2 * R", f"    a = {n_base + 1}", f"    og = a + {n_groups} * R * R2", "    oq = og + R",
+            "    for i in range(R):", "        J[i, R + i] = 1.0", "    for j in range(R2):", "        col = a + j * R",
+            "        for i in range(R):", "            J[R + i, j] += p[col + i]"]
+    for k in range(1, n_groups):
+        jac += ["    for j in range(R2):", f"        col = a + {k} * R * R2 + j * R", "        for i in range(R):",
+                f"            J[R + i, j] += s{k - 1} * p[col + i]"]
+    for ((k, c), e) in zip(df, df_exprs):
+        column = f"{position[c]}" if c < n else f"R + {position[c - n]}"
+        jac += [f"    d = {pr(e)}", f"    col = oq + {k} * R", "    for i in range(R):",
+                f"        J[R + i, {column}] += p[col + i] * d"]
+
     fac = prelude("time_factors", "out", list(factor_exprs))
     fac += [f"    out[{k}] = {pr(e)}" for k, e in enumerate(factor_exprs)] or ["    pass"]
 
@@ -163,8 +183,8 @@ def generate_reduced(eom, structure_key=""):
     sw += [f"    out[{k}] = {pr(e)}" for k, e in enumerate(switch_exprs)] or ["    pass"]
 
     header = module_header(structure_key, "reduced", eom, q=q, u=u, params=params, derived=derived,
-                           n_prepared=n_base, jacobian=False, n_switches=len(switch_exprs),
+                           n_prepared=n_base, jacobian=True, n_switches=len(switch_exprs),
                            imports=("numpy as np",))
     header += [f"LOCAL_ROWS = {_tuple(rows)}", f"BOUNDARY = {_tuple(boundary)}", f"N_BASE = {n_base}",
                f"N_GROUPS = {n_groups}", "", ""]
-    return "\n".join(header + lin + [""] + body + [""] + fac + [""] + sw + [""])
+    return "\n".join(header + lin + [""] + body + [""] + jac + [""] + fac + [""] + sw + [""])

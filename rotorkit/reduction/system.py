@@ -14,13 +14,14 @@ from .basis import craig_bampton
 __all__ = ["reduce", "ReducedSystem", "ReductionError"]
 
 _MODULES = {}
+GENERATOR_VERSION = 2  # part of the cache key: a changed generator never loads an older module
 
 
 def _module(model):
     """The generated reduced module of ``model``'s structure (disk-cached like the full model's)."""
     from ..codegen import cache
 
-    key = model.structure_key + "_reduced"
+    key = model.structure_key + f"_reduced{GENERATOR_VERSION}"
     module = _MODULES.get(key) or cache.load(key)
     if module is None:
         from ..progress import announce_if_slow
@@ -132,22 +133,6 @@ class ReducedSystem(System):
         self.prepared_parameters = prepared
         self._plist = prepared.tolist()
         self._n_interior = n_interior
-
-    @property
-    def has_jacobian(self):
-        """False: implicit methods and linearisations use finite differences."""
-        return False
-
-    def jacobian(self, t, y, compiled=None):
-        """Central finite differences of :meth:`rhs` (the reduced system has no generated Jacobian)."""
-        y = np.asarray(y, dtype=float)
-        J = np.empty((y.size, y.size))
-        for j in range(y.size):
-            h = 1e-7 * max(abs(y[j]), 1e-6)
-            e = np.zeros(y.size)
-            e[j] = h
-            J[:, j] = (self.rhs(t, y + e) - self.rhs(t, y - e)) / (2 * h)
-        return J
 
     def with_parameters(self, **overrides):
         """A copy with some parameter values changed: the basis is rebuilt for them (no re-derivation)."""
