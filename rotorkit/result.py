@@ -199,6 +199,8 @@ def load_result(path, *, max_bytes=None):
             raise ParameterError(f"{path}: not a rotorkit result file (format "
                                  f"{meta.get('format') if isinstance(meta, dict) else None!r})")
         names = tuple(meta["state_names"])
+        if not all(isinstance(n, str) for n in names):
+            raise ParameterError(f"{path}: its state names {list(names)[:5]!r} are not all text")
         if t.ndim != 1 or y.shape != (len(names), t.size):
             raise ParameterError(f"{path}: t {t.shape} and y {y.shape} do not fit {len(names)} state names")
         return Result(t=t, y=y, state_names=names, parameters=dict(meta["parameters"]), stats=dict(meta["stats"]),

@@ -99,9 +99,13 @@ def _print_progress(fraction, t):
         sys.stderr.write("\n")
 
 
+#: coordinate name prefixes that are not lateral displacements in m: torsion angles, tilts, modal coordinates
+NOT_DISPLACEMENTS = ("alpha", "thx", "thy", "eta")
+
+
 def _bending_rows(system):
-    """Rows of the bending displacements (x, y; not the torsion angles) in a state vector."""
-    return [i for i, name in enumerate(system.coordinate_names) if not name.startswith("alpha")]
+    """Rows of the lateral displacements (x, y, pedestals; not angles or modal coordinates) in a state vector."""
+    return [i for i, name in enumerate(system.coordinate_names) if not name.startswith(NOT_DISPLACEMENTS)]
 
 
 def _escaped(system, samples, bound):

@@ -50,3 +50,16 @@ def test_spectrum_of_a_signal_after_highpass():
     assert abs(spec.frequency[peak] - 1500.0) < 2 * (spec.frequency[1] - spec.frequency[0])
     assert spec.amplitude[peak] == pytest.approx(0.5, rel=0.05)
     assert spec.amplitude[spec.frequency < 100].max() < 0.01  # the drift is gone
+
+
+def test_load_refuses_state_names_that_are_not_text(tmp_path):
+    """Found by hypothesis (test_properties): a file naming its states [null] loaded as state_names (None,)."""
+    import json
+
+    from rotorkit.result import FILE_FORMAT
+
+    path = tmp_path / "r.npz"
+    meta = {"format": FILE_FORMAT, "name": "r", "state_names": [None], "parameters": {}, "stats": {}}
+    np.savez(path, t=np.zeros(2), y=np.zeros((1, 2)), meta=np.array(json.dumps(meta)))
+    with pytest.raises(rk.ParameterError, match=r"state names \[None\] are not all text"):
+        rk.load_result(path)

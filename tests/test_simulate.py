@@ -203,3 +203,17 @@ def test_default_bound_never_returns_a_run_away_as_a_result():
     assert np.abs(info.value.partial["y1"]).max() <= 0.0134
     result = rk.simulate(system, (0.0, 2.3), bound=None)  # the caller accepts it explicitly
     assert np.abs(result["y1"]).max() > 0.0134
+
+
+def test_run_away_bound_reads_displacements_only():
+    """Tilts (rad) and modal coordinates are not compared with a bound in metres; x, y and pedestals are."""
+    from types import SimpleNamespace
+
+    from rotorkit.simulate import _escaped
+
+    system = SimpleNamespace(coordinate_names=("x1", "thx1", "thy1", "alpha1", "eta1", "px1"))
+    samples = np.zeros((6, 3))
+    samples[1:5, 2] = 0.5  # half a radian of tilt and twist, a large modal amplitude
+    assert _escaped(system, samples, 0.01) == ""
+    samples[5, 1] = 0.02
+    assert _escaped(system, samples, 0.01).startswith("run-away: |px1| = 0.02 m exceeds the bound 0.01 m")
