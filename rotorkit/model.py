@@ -13,7 +13,7 @@ from .units import to_si
 __all__ = ["Model"]
 
 #: bump when the derivation or generated code changes, to invalidate caches
-FORMAT_VERSION = "6"
+FORMAT_VERSION = "7"
 
 
 class Model:

@@ -8,7 +8,7 @@ import numpy as np
 
 from .errors import ParameterError
 
-__all__ = ["System", "compile_model", "available_backends"]
+__all__ = ["System", "compile_model", "available_backends", "jacobian_module"]
 
 BACKENDS = ("python", "numba")
 
@@ -86,11 +86,37 @@ class System:
             )
         self.prepared_parameters = prepared
         self._plist = prepared.tolist()
+        self._jacobian_parts = {}  # shared by the within() copies: same parameters
 
     @property
     def has_jacobian(self):
-        """Whether the generated module holds the analytic Jacobian."""
-        return bool(getattr(self._module, "HAS_JACOBIAN", False))
+        """Whether the analytic Jacobian is available (True for generated systems).
+
+        It is generated on first use (:meth:`jacobian`), in a module of its
+        own: explicit runs, which never need it, do not pay for it.
+        """
+        return True
+
+    def _jacobian_function(self):
+        """(module, prepared vector, the same as a list) for the generated ``jac`` under this time window."""
+        if getattr(self._module, "HAS_JACOBIAN", False):  # a module generated with its Jacobian
+            return self._module, self.prepared_parameters, self._plist
+        parts = self._jacobian_parts
+        if "module" not in parts:
+            module = jacobian_module(self.model, self._module.CODEGEN)
+            p = np.array([self._values[n] for n in module.PARAMETER_NAMES], dtype=float)
+            with np.errstate(all="ignore"):
+                parts["prepared"] = module.prepare(p, np.empty(module.N_PREPARED))
+            parts["module"], parts["windows"] = module, {}
+        window = (float(self.prepared_parameters[-2]), float(self.prepared_parameters[-1]))
+        found = parts["windows"].get(window)
+        if found is None:
+            prepared = parts["prepared"].copy()
+            prepared[-2:] = window
+            if len(parts["windows"]) > 64:
+                parts["windows"].clear()
+            found = parts["windows"][window] = (prepared, prepared.tolist())
+        return (parts["module"],) + found
 
     @property
     def n_states(self):
@@ -132,13 +158,14 @@ class System:
         ``compiled=False`` evaluates the plain-Python version (no numba
         compilation: right for a single evaluation).
         """
+        module, prepared, plist = self._jacobian_function()
         J = np.zeros((self.n_states, self.n_states))
         if compiled is None:
             compiled = self.backend == "numba"
         if compiled:
-            _numba_function(self._module, "jac")(float(t), np.asarray(y, dtype=float), self.prepared_parameters, J)
+            _numba_function(module, "jac")(float(t), np.asarray(y, dtype=float), prepared, J)
         else:
-            self._module.jac(float(t), np.asarray(y, dtype=float).tolist(), self._plist, J)
+            module.jac(float(t), np.asarray(y, dtype=float).tolist(), plist, J)
         return J
 
     @property
@@ -245,7 +272,7 @@ def compile_model(model, backend="auto", codegen="auto"):
         eom = model.equations()
         with announce_if_slow(f"generating code for {model.name} (first use of this model structure; cached on disk "
                               "afterwards)"):
-            module = cache.store(key, generate(eom, key, mode=mode).source)
+            module = cache.store(key, generate(eom, key, jacobian=False, mode=mode).source)
     _MODULES[key] = module
     if backend == "numba":
         core = _numba_function(module, "rhs")
@@ -262,3 +289,28 @@ def compile_model(model, backend="auto", codegen="auto"):
 
 
 _MODULES = {}
+
+
+def jacobian_module(model, codegen):
+    """The generated module holding ``jac`` for ``model`` (``codegen``: ``'unrolled'`` or ``'structured'``).
+
+    Generated on first use and cached on disk under ``<structure key>_jac``
+    (``<structure key>_structured_jac``): the right-hand side's module holds
+    no Jacobian, whose derivatives and common subexpressions cost about as
+    much to generate again as the right-hand side itself. This module has
+    its own prepared-parameter layout (:meth:`System._jacobian_function`).
+    """
+    from .codegen import cache
+
+    key = model.structure_key + ("" if codegen == "unrolled" else "_structured") + "_jac"
+    module = _MODULES.get(key) or cache.load(key)
+    if module is None:
+        from .codegen.generate import generate
+        from .progress import announce_if_slow
+
+        eom = model.equations()
+        with announce_if_slow(f"generating the analytic Jacobian of {model.name} (first use; cached on disk "
+                              "afterwards)"):
+            module = cache.store(key, generate(eom, key, jacobian=True, mode=codegen).source)
+    _MODULES[key] = module
+    return module
