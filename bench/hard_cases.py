@@ -328,8 +328,12 @@ def _short(message):
     return re.sub(r" at t=[0-9.e+-]+\.?$", "", text)
 
 
-def run(c, window=None, *, rtol=RTOL, sample_rate=None, time_limit=TIME_LIMIT, engine="auto", method=None):
+def run(c, window=None, *, rtol=RTOL, sample_rate=None, time_limit=TIME_LIMIT, engine="auto", method=None,
+        contact_events=False):
     """Run case ``c`` over ``window`` (default: its full span) and check it.
+
+    ``contact_events=True`` restarts the integration at every contact onset
+    and loss (``simulate(..., contact_events=True)``).
 
     A window that starts after 0 is reached by a prefix run from rest (sampled at
     ``PREFIX_SAMPLE_RATE``, checked for success and run-away only); the checked run
@@ -343,6 +347,8 @@ def run(c, window=None, *, rtol=RTOL, sample_rate=None, time_limit=TIME_LIMIT, e
     model, system = build(c)
     out = Outcome(case=c, window=window, rtol=rtol, sample_rate=sample_rate, method=method)
     options = dict(method=method, rtol=rtol, atol=1e-6 * rtol, engine=engine, time_limit=time_limit)
+    if contact_events:
+        options["contact_events"] = True
     y0, wall, nfev = None, 0.0, 0
     result = None
     if window[0] > 0.0:

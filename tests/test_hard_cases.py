@@ -97,22 +97,25 @@ HERTZ_AT_HIGH_SPEED = pytest.mark.xfail(strict=True, reason=(
     "onset, simulate(..., contact_events=True), brings it to 5e-8)"))
 
 
-@pytest.mark.parametrize("key, sample_rate", [
-    ("al31f:default", 400_000.0),
-    ("al31f:kr_1e9", 800_000.0),
-    ("al31f:clearance_0", 400_000.0),
-    pytest.param("al31f:speed_5000", 800_000.0, marks=HERTZ_AT_HIGH_SPEED),
-    ("jeffcott:default", 400_000.0),
-    ("jeffcott:kr_1e9", 1_600_000.0),
-    ("jeffcott:clearance_0", 400_000.0),
+@pytest.mark.parametrize("key, sample_rate, events", [
+    ("al31f:default", 400_000.0, False),
+    # k_r = 1e9: without restarts at the rub's onsets, the residual at rtol ~1e-8 is decided by where steps
+    # straddle the kink, i.e. by rounding: AL-31F 0.8-24e-7 and Jeffcott 1.3-57e-7 (failing its check) for
+    # rtol 0.9-1.1e-8 or right-hand sides equal to 1e-16; with restarts (contact_events) 0.3-7e-7, robustly
+    ("al31f:kr_1e9", 800_000.0, True),
+    ("al31f:clearance_0", 400_000.0, False),
+    pytest.param("al31f:speed_5000", 800_000.0, False, marks=HERTZ_AT_HIGH_SPEED),
+    ("jeffcott:default", 400_000.0, False),
+    ("jeffcott:kr_1e9", 1_600_000.0, True),
+    ("jeffcott:clearance_0", 400_000.0, False),
 ])
-def test_residual_follows_the_solver_tolerance(key, sample_rate):
+def test_residual_follows_the_solver_tolerance(key, sample_rate, events):
     """rtol 1e-6 and 1e-8 (atol = 1e-6 rtol): both pass their checks (residual <= 10 rtol with the
     quadrature part 10 times below) and the residual shrinks by more than 10."""
     c = hc.case(key)
     window = (c.ci_window[0], min(c.ci_window[1], c.ci_window[0] + 0.05))
-    coarse = hc.run(c, window, rtol=1e-6, sample_rate=sample_rate)
-    fine = hc.run(c, window, rtol=1e-8, sample_rate=sample_rate)
+    coarse = hc.run(c, window, rtol=1e-6, sample_rate=sample_rate, contact_events=events)
+    fine = hc.run(c, window, rtol=1e-8, sample_rate=sample_rate, contact_events=events)
     for out in (coarse, fine):
         assert out.passed, out.verdict
     assert fine.relative_residual < coarse.relative_residual / 10, (coarse.relative_residual, fine.relative_residual)
