@@ -95,7 +95,7 @@ class System:
         It is generated on first use (:meth:`jacobian`), in a module of its
         own: explicit runs, which never need it, do not pay for it.
         """
-        return True
+        return bool(getattr(self._module, "HAS_JACOBIAN", False)) or hasattr(self, "_jacobian_parts")
 
     def _jacobian_function(self):
         """(module, prepared vector, the same as a list) for the generated ``jac`` under this time window."""
