@@ -225,11 +225,12 @@ def band_pays(n_rows, width):
     """Whether the band solve beats the dense ``M0^-1`` product in the right-hand side.
 
     About ``4 n (b + 1)`` multiply-adds in short indirect loops against ``n^2``
-    in one vectorised loop; measured (``bench/bench_fe.py --sections solve``,
-    beam rotors with ``b = 3``): even at 40 coordinates, 0.99 at 100, 0.72 at
-    200, 0.38 at 400. From ``n = 16 (b + 1)`` on.
+    in one vectorised loop. Measured on the quiet machine
+    (``bench/bench_fe.py --sections solve``, beam rotors with ``b = 3``),
+    band / dense: 0.84-1.22 at 100 coordinates, 0.97-1.03 at 140, 0.69-0.81
+    at 200, 0.46 at 400. From ``n = 40 (b + 1)`` on (160 for beam rotors).
     """
-    return 16 * (width + 1) <= n_rows
+    return 40 * (width + 1) <= n_rows
 
 
 def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
