@@ -257,23 +257,11 @@ def compile_model(model, backend="auto", codegen="auto"):
     -------
     System
     """
-    from .codegen import cache
-
     from .codegen.generate import codegen_mode
 
     backend = _resolve_backend(backend)
     mode = codegen_mode(len(model.coordinate_names), codegen)
-    key = model.structure_key + ("" if mode == "unrolled" else "_structured")
-    module = _MODULES.get(key) or cache.load(key)
-    if module is None:
-        from .codegen.generate import generate
-        from .progress import announce_if_slow
-
-        eom = model.equations()
-        with announce_if_slow(f"generating code for {model.name} (first use of this model structure; cached on disk "
-                              "afterwards)"):
-            module = cache.store(key, generate(eom, key, jacobian=False, mode=mode).source)
-    _MODULES[key] = module
+    module = _generated(model, mode, jacobian=False)
     if backend == "numba":
         core = _numba_function(module, "rhs")
         if not core.signatures:  # compile now, with a notice if slow, not silently inside the first run
@@ -300,17 +288,24 @@ def jacobian_module(model, codegen):
     much to generate again as the right-hand side itself. This module has
     its own prepared-parameter layout (:meth:`System._jacobian_function`).
     """
+    return _generated(model, codegen, jacobian=True)
+
+
+def _generated(model, mode, jacobian):
+    """The generated module of ``model`` in codegen ``mode``: the right-hand side's, or with ``jacobian`` the
+    Jacobian's; from this process, else from the disk cache, else generated now and stored there."""
     from .codegen import cache
 
-    key = model.structure_key + ("" if codegen == "unrolled" else "_structured") + "_jac"
+    key = model.structure_key + ("" if mode == "unrolled" else "_structured") + ("_jac" if jacobian else "")
     module = _MODULES.get(key) or cache.load(key)
     if module is None:
         from .codegen.generate import generate
         from .progress import announce_if_slow
 
         eom = model.equations()
-        with announce_if_slow(f"generating the analytic Jacobian of {model.name} (first use; cached on disk "
-                              "afterwards)"):
-            module = cache.store(key, generate(eom, key, jacobian=True, mode=codegen).source)
+        what = (f"the analytic Jacobian of {model.name} (first use" if jacobian
+                else f"code for {model.name} (first use of this model structure")
+        with announce_if_slow(f"generating {what}; cached on disk afterwards)"):
+            module = cache.store(key, generate(eom, key, jacobian=jacobian, mode=mode).source)
     _MODULES[key] = module
     return module
