@@ -13,7 +13,10 @@ import pytest
 from rotorkit.codegen import cache
 from rotorkit.engines import rk_numba
 
-ROOT = Path(__file__).resolve().parents[1]
+#: the folder holding the rotorkit this test imports (the source tree, or site-packages when installed, as in
+#: CI): child processes must import the same copy (from there, as python -c puts its folder first), whose file
+#: the loop's disk cache is keyed to
+PACKAGE_ROOT = Path(rk_numba.__file__).resolve().parents[2]
 
 
 @pytest.fixture
@@ -27,8 +30,9 @@ def fresh_cache(tmp_path, monkeypatch):
 
 
 def python(code, cache_dir, **env):
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=600,
-                         env=dict(os.environ, PYTHONPATH=str(ROOT), ROTORKIT_CACHE_DIR=str(cache_dir), **env))
+    env = dict(os.environ, PYTHONPATH=str(PACKAGE_ROOT), ROTORKIT_CACHE_DIR=str(cache_dir), **env)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=PACKAGE_ROOT, timeout=600,
+                         env=env)
     assert out.returncode == 0, out.stderr
     return out.stdout
 
@@ -115,7 +119,7 @@ def test_the_orbit_polylines_give_every_segment_the_colour_of_its_mid_time():
 @pytest.mark.slow
 def test_a_cold_run_gives_the_numbers_of_a_warm_one(tmp_path):
     """Cold (empty cache: loop compiled in the background, model derived and compiled) and warm runs agree exactly."""
-    env = dict(os.environ, PYTHONPATH=str(ROOT), ROTORKIT_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg")
+    env = dict(os.environ, PYTHONPATH=str(PACKAGE_ROOT), ROTORKIT_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg")
     env.pop(rk_numba.BACKGROUND_VARIABLE, None)
     for name in ("cold", "warm"):
         out = subprocess.run([sys.executable, "-m", "rotorkit.cli", "run", "al31f", "--t-end", "0.3", "--out",
