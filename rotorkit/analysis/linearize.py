@@ -35,6 +35,9 @@ _FLOOR_SCALE = 1e-6
 DEFAULT_CAGE_SAMPLES = 16
 #: Equilibrium residual tolerance, relative to the load acceleration at q = 0.
 DEFAULT_EQUILIBRIUM_TOL = 1e-9
+#: Units of rounding (machine epsilon times the size of the terms that cancel, |J| |q| + |a(0)|) within which an
+#: equilibrium residual counts as converged even above ``tol``: a stiff model's floor.
+ROUNDING_FACTOR = 16
 
 
 def _check_system(system, who):
@@ -179,7 +182,10 @@ def static_equilibrium(system, t=0.0, *, unbalance=False, q0=None, tol=DEFAULT_E
         ``-J0^-1 a(0)`` (``K^-1 F`` with the contacts as they are at q = 0).
     tol : float
         Convergence: ``max |a_i(q*)|`` below ``tol`` times the largest load
-        acceleration at ``q = 0`` (m/s^2, rad/s^2).
+        acceleration at ``q = 0`` (m/s^2, rad/s^2), or, where that lies
+        below the rounding of the terms that cancel in ``a_i`` (stiff
+        beams: ``K q / M`` much larger than the loads), within
+        ``ROUNDING_FACTOR`` machine epsilons of them.
     max_evaluations : int, optional
         Most residual evaluations of each root-finder attempt (scipy's
         ``maxfev``; default scipy's).
@@ -257,9 +263,18 @@ def static_equilibrium(system, t=0.0, *, unbalance=False, q0=None, tol=DEFAULT_E
         q = z * scale
         return _coordinate_jacobian(system, t, q, _position_steps(names, q, DEFAULT_RELATIVE_STEP)) * scale / reference
 
+    def converged(q, res):
+        if np.max(res) <= threshold:
+            return True
+        # a stiff model's accelerations are differences of terms much larger than the loads (K q / M): below the
+        # rounding of those terms no solver gets closer, so that floor counts as converged too
+        J = _coordinate_jacobian(system, t, q, _position_steps(names, q, DEFAULT_RELATIVE_STEP))
+        floor = ROUNDING_FACTOR * np.finfo(float).eps * (np.abs(J) @ np.abs(q) + np.abs(a_zero))
+        return bool(np.all(res <= np.maximum(threshold, floor)))
+
     limit = {"hybr": "maxfev", "lm": "maxiter"}
     best, best_res = q0, np.abs(a_start)
-    if np.max(best_res) <= threshold:
+    if converged(best, best_res):
         return best
     for solver in ("hybr", "lm"):
         start = best / scale
@@ -270,7 +285,7 @@ def static_equilibrium(system, t=0.0, *, unbalance=False, q0=None, tol=DEFAULT_E
         res = np.abs(_accelerations(system, t, q))
         if np.all(np.isfinite(res)) and np.max(res) < np.max(best_res):
             best, best_res = q, res
-        if np.max(best_res) <= threshold:
+        if converged(best, best_res):
             return best
     worst = int(np.argmax(best_res))
     raise ParameterError(
