@@ -286,7 +286,9 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
             args.t_eval.ctypes.data, args.t_eval.size, args.rtol, args.atol.ctypes.data, first_step,
             args.max_step, args.max_steps, args.pause_after, samples.ctypes.data, samples.shape[1],
             y_reached.ctypes.data, counters.ctypes.data, reals.ctypes.data)
-        if status == _STATUS_BAD_ARGUMENT:  # pragma: no cover - the checks above exclude it
+        if status == STATUS_NO_MEMORY:  # nothing integrated: the state at t_reached = t0 is y0
+            y_reached[:] = args.y0
+        elif status == _STATUS_BAD_ARGUMENT:  # pragma: no cover - the checks above exclude it
             raise RotorkitError(f"the C integration loop refused its arguments (n={n}, columns={samples.shape[1]}, "
                                 f"t_eval size {args.t_eval.size}, method id {method_id}): a bug in rotorkit")
         return (int(status), int(counters[0]), float(reals[0]), int(counters[1]), int(counters[2]),

@@ -554,12 +554,10 @@ def _as_max_step(max_step):
     return max_step
 
 
-def _as_max_steps(max_steps):
-    """Validated max_steps (positive integer)."""
-    if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)):
-        raise ParameterError(f"max_steps={max_steps!r} must be a positive integer.")
-    if max_steps <= 0:
-        raise ParameterError(f"max_steps={max_steps!r} must be a positive integer.")
+def _as_max_steps(max_steps, name="max_steps"):
+    """Validated positive integer (max_steps, pause_after, sample_capacity), else ParameterError naming `name`."""
+    if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps <= 0:
+        raise ParameterError(f"{name}={max_steps!r} must be a positive integer.")
     return int(max_steps)
 
 
@@ -602,10 +600,10 @@ def _arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_step
     first_step = _as_first_step(first_step, t0, t1)
     max_step = _as_max_step(max_step)
     max_steps = _as_max_steps(max_steps)
-    pause_after = 0 if pause_after is None else _as_max_steps(pause_after)
+    pause_after = 0 if pause_after is None else _as_max_steps(pause_after, "pause_after")
     columns = t_eval.size
     if pause_after and sample_capacity is not None:
-        columns = min(columns, max(1, _as_max_steps(sample_capacity)))
+        columns = min(columns, _as_max_steps(sample_capacity, "sample_capacity"))
     return _Arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after, columns)
 
 

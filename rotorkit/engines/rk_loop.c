@@ -35,7 +35,7 @@
  * Returns the status: STATUS_SUCCESS 0, STATUS_STEP_TOO_SMALL -1,
  * STATUS_NON_FINITE -2, STATUS_MAX_STEPS -3, STATUS_PAUSED -4,
  * STATUS_NO_MEMORY -5 (malloc of the scratch arrays failed: nothing was
- * integrated), STATUS_BAD_ARGUMENT -6 (a null core, n < 1, an unknown
+ * integrated, samples and y_out untouched), STATUS_BAD_ARGUMENT -6 (a null core, n < 1, an unknown
  * method, columns outside [0, n_eval]: the Python front end never passes
  * these).
  *
@@ -362,11 +362,8 @@ int64_t rk_integrate(rk_core core, int64_t method, double t0, double t1, const d
     double *memory = NULL;
     if ((uint64_t)n <= SIZE_MAX / sizeof(double) / (uint64_t)n_vectors)
         memory = malloc((size_t)n * (size_t)n_vectors * sizeof(double));
-    if (memory == NULL) { /* nothing integrated: the state stays y0 at t0 */
-        for (int64_t i = 0; i < n; i++)
-            y_out[i] = y0[i];
-        return STATUS_NO_MEMORY;
-    }
+    if (memory == NULL)
+        return STATUS_NO_MEMORY; /* nothing integrated, nothing written but the counters (0) and t_reached (t0) */
     double *k = memory; /* stages; row n_stages is f(t_new, y_new) */
     double *dense = k + n_rows * n;
     double *y = dense + DOP853_INTERPOLATOR_POWER * n;
