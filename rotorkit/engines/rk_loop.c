@@ -45,6 +45,13 @@
  * contraction: gcc's -std=c99 default) to round like numba's code.
  */
 
+#if defined(__GNUC__) && !defined(__clang__)
+/* gcc: vectorise the loops over the state (-O2's "very cheap" cost model leaves them scalar; vectorising
+ * element-wise loops does not change a result, and reductions stay in order without -ffast-math); never fuse
+ * a multiply and an add, whatever the flags (numba does not either) */
+#pragma GCC optimize("O3", "fp-contract=off")
+#endif
+
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -56,11 +63,25 @@ typedef void (*rk_core)(double t, const double *y, const double *p, double *dydt
 
 #define STATUS_RUNNING 1
 
+/* The helpers are inlined into rk_integrate, which gcc on x86-64 Linux builds twice, for any x86-64 and for
+ * AVX2 (4 doubles a vector: the stage sums run ~2x faster on large states), the loader picking the one the
+ * processor runs (an ifunc): one library for every machine that shares the cache. Same arithmetic in both. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define RK_VERSIONS __attribute__((target_clones("default", "avx2")))
+#else
+#define RK_VERSIONS
+#endif
+#if defined(__GNUC__)
+#define RK_HELPER static inline __attribute__((always_inline))
+#else
+#define RK_HELPER static inline
+#endif
+
 /* ------------------------------------------------------------------------- */
 /* Helpers (rk_numba's @njit kernels)                                        */
 /* ------------------------------------------------------------------------- */
 
-static int all_finite(const double *x, int64_t n)
+RK_HELPER int all_finite(const double *x, int64_t n)
 {
     for (int64_t i = 0; i < n; i++)
         if (!isfinite(x[i]))
@@ -68,7 +89,7 @@ static int all_finite(const double *x, int64_t n)
     return 1;
 }
 
-static int all_finite_and_bounded(const double *x, int64_t n)
+RK_HELPER int all_finite_and_bounded(const double *x, int64_t n)
 {
     for (int64_t i = 0; i < n; i++)
         if (!isfinite(x[i]) || fabs(x[i]) > DIVERGED)
@@ -77,7 +98,7 @@ static int all_finite_and_bounded(const double *x, int64_t n)
 }
 
 /* out = sum(weights[j] * rows[j] for j < n_terms), rows of length n; zero weights skipped */
-static void weighted_sum(const double *restrict rows, const double *restrict weights, int64_t n_terms,
+RK_HELPER void weighted_sum(const double *restrict rows, const double *restrict weights, int64_t n_terms,
                          double *restrict out, int64_t n)
 {
     for (int64_t i = 0; i < n; i++)
@@ -93,7 +114,7 @@ static void weighted_sum(const double *restrict rows, const double *restrict wei
 }
 
 /* RMS norm of x / scale as scipy's norm computes it */
-static double rms(const double *x, const double *scale, int64_t n)
+RK_HELPER double rms(const double *x, const double *scale, int64_t n)
 {
     double acc = 0.0;
     for (int64_t i = 0; i < n; i++) {
@@ -104,7 +125,7 @@ static double rms(const double *x, const double *scale, int64_t n)
 }
 
 /* atol + rtol * max(|y|, |y_new|) */
-static void error_scale(const double *y, const double *y_new, double rtol, const double *atol, double *out,
+RK_HELPER void error_scale(const double *y, const double *y_new, double rtol, const double *atol, double *out,
                         int64_t n)
 {
     for (int64_t i = 0; i < n; i++) {
@@ -114,7 +135,7 @@ static void error_scale(const double *y, const double *y_new, double rtol, const
 }
 
 /* scipy's select_initial_step (forward direction, one evaluation) */
-static double select_initial_step(rk_core core, double t0, const double *y0, const double *f0, const double *p,
+RK_HELPER double select_initial_step(rk_core core, double t0, const double *y0, const double *f0, const double *p,
                                   double t1, double max_step, int64_t order, double rtol, const double *atol,
                                   double *y1, double *f1, double *scale, int64_t n)
 {
@@ -159,7 +180,7 @@ static double select_initial_step(rk_core core, double t0, const double *y0, con
 /* One explicit RK step; k[0] holds f(t, y) on entry. Fills k[1..n_stages-1], y_new and
  * k[n_stages] = f(t + h, y_new). Returns the evaluations made; *ok = 0 when a stage, the new
  * state or its derivative is not finite (or the state diverged): the step stops there. */
-static int64_t rk_step(rk_core core, double t, const double *y, double h, const double *p, const double *a,
+RK_HELPER int64_t rk_step(rk_core core, double t, const double *y, double h, const double *p, const double *a,
                        int64_t a_stride, const double *b, const double *c, int64_t n_stages, double *k,
                        double *y_new, double *y_stage, double *work, int64_t n, int *ok)
 {
@@ -190,7 +211,7 @@ static int64_t rk_step(rk_core core, double t, const double *y, double h, const 
 }
 
 /* scipy's RK45 error norm: norm(h * K.T @ E / scale) */
-static double rk45_error_norm(const double *k, double h, const double *scale, double *work, int64_t n)
+RK_HELPER double rk45_error_norm(const double *k, double h, const double *scale, double *work, int64_t n)
 {
     weighted_sum(k, RK45_E, RK45_N_STAGES + 1, work, n);
     for (int64_t i = 0; i < n; i++)
@@ -199,7 +220,7 @@ static double rk45_error_norm(const double *k, double h, const double *scale, do
 }
 
 /* scipy's DOP853 error norm blending the 5th- and 3rd-order estimates */
-static double dop853_error_norm(const double *k, double h, const double *scale, double *work5, double *work3,
+RK_HELPER double dop853_error_norm(const double *k, double h, const double *scale, double *work5, double *work3,
                                 int64_t n)
 {
     weighted_sum(k, DOP853_E5, DOP853_N_STAGES + 1, work5, n);
@@ -218,14 +239,14 @@ static double dop853_error_norm(const double *k, double h, const double *scale, 
 }
 
 /* RK45 dense-output weights q[j] = (K.T @ P)[:, j] of the last step */
-static void rk45_dense_prepare(const double *k, double *q, int64_t n)
+RK_HELPER void rk45_dense_prepare(const double *k, double *q, int64_t n)
 {
     for (int64_t j = 0; j < RK45_DENSE_ROWS; j++)
         weighted_sum(k, RK45_PT[j], RK45_N_STAGES + 1, q + j * n, n);
 }
 
 /* quartic interpolant at t into column col of out (n x columns) */
-static void rk45_dense_eval(const double *q, const double *y_old, double t_old, double h, double t, double *out,
+RK_HELPER void rk45_dense_eval(const double *q, const double *y_old, double t_old, double h, double t, double *out,
                             int64_t columns, int64_t col, int64_t n)
 {
     const double x = (t - t_old) / h;
@@ -241,7 +262,7 @@ static void rk45_dense_eval(const double *q, const double *y_old, double t_old, 
 
 /* DOP853: three extra stages and the 7 interpolant rows f of the last step; returns the
  * evaluations made, *ok = 0 when an extra stage is not finite */
-static int64_t dop853_dense_prepare(rk_core core, double t_old, double h, const double *y_old,
+RK_HELPER int64_t dop853_dense_prepare(rk_core core, double t_old, double h, const double *y_old,
                                     const double *y_new, const double *p, double *k, double *f, double *y_stage,
                                     double *work, int64_t n, int *ok)
 {
@@ -274,7 +295,7 @@ static int64_t dop853_dense_prepare(rk_core core, double t_old, double h, const 
 }
 
 /* 7th-order interpolant at t into column col of out (n x columns) */
-static void dop853_dense_eval(const double *f, const double *y_old, double t_old, double h, double t, double *out,
+RK_HELPER void dop853_dense_eval(const double *f, const double *y_old, double t_old, double h, double t, double *out,
                               int64_t columns, int64_t col, int64_t n)
 {
     const double x = (t - t_old) / h;
@@ -292,14 +313,14 @@ static void dop853_dense_eval(const double *f, const double *y_old, double t_old
     }
 }
 
-static void copy_column(const double *src, double *out, int64_t columns, int64_t col, int64_t n)
+RK_HELPER void copy_column(const double *src, double *out, int64_t columns, int64_t col, int64_t n)
 {
     for (int64_t i = 0; i < n; i++)
         out[i * columns + col] = src[i];
 }
 
 /* scipy's step-size factor for an error norm (accepted or not) */
-static double step_factor(double error_norm, double error_exponent, int rejected_before)
+RK_HELPER double step_factor(double error_norm, double error_exponent, int rejected_before)
 {
     double factor;
     if (error_norm < 1.0) {
@@ -324,6 +345,7 @@ static double step_factor(double error_norm, double error_exponent, int rejected
 /* The loop (rk_numba._rk_loop)                                              */
 /* ------------------------------------------------------------------------- */
 
+RK_VERSIONS
 int64_t rk_integrate(rk_core core, int64_t method, double t0, double t1, const double *y0, int64_t n,
                      const double *p, const double *t_eval, int64_t n_eval, double rtol, const double *atol,
                      double first_step, double max_step, int64_t max_steps, int64_t pause_after, double *samples,
