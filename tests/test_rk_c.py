@@ -464,6 +464,21 @@ def test_the_loop_is_built_once_into_the_private_cache():
     assert (folder.stat().st_mode & 0o077) == 0
 
 
+def test_the_baseline_build_equals_the_one_this_processor_runs(c, tmp_path):
+    """gcc builds the loop for any x86-64 and for AVX2 and the loader picks one: the other must agree bit for bit."""
+    baseline = rk_c._Loop(cbuild.library(tmp_path, "rk_loop_baseline", "#define RK_ONE_VERSION 1\n" + rk_c.source()))
+    for method in METHODS:
+        for name, (core, t1, y0, p, t_eval, options) in PROBLEMS.items():
+            picked = rk_c.integrate(c[core], 0.0, t1, y0, p, t_eval, method=method, **options)
+            with pytest.MonkeyPatch.context() as patch:
+                patch.setattr(rk_c, "_loop", lambda: baseline)
+                other = rk_c.integrate(c[core], 0.0, t1, y0, p, t_eval, method=method, **options)
+            assert (picked.nfev, picked.n_accepted, picked.n_rejected) == (other.nfev, other.n_accepted,
+                                                                          other.n_rejected), name
+            np.testing.assert_array_equal(picked.y, other.y, err_msg=name)
+            np.testing.assert_array_equal(picked.y_reached, other.y_reached, err_msg=name)
+
+
 def test_runs_in_threads_equal_runs_in_turn(c):
     amplitudes = [0.5, 1.0, 1.5, 2.0]
 

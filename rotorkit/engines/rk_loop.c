@@ -65,8 +65,10 @@ typedef void (*rk_core)(double t, const double *y, const double *p, double *dydt
 
 /* The helpers are inlined into rk_integrate, which gcc on x86-64 Linux builds twice, for any x86-64 and for
  * AVX2 (4 doubles a vector: the stage sums run ~2x faster on large states), the loader picking the one the
- * processor runs (an ifunc): one library for every machine that shares the cache. Same arithmetic in both. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+ * processor runs (an ifunc): one library for every machine that shares the cache. Same arithmetic in both
+ * (RK_ONE_VERSION defined: only the first, as the tests build it to compare). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) \
+    && !defined(RK_ONE_VERSION)
 #define RK_VERSIONS __attribute__((target_clones("default", "avx2")))
 #else
 #define RK_VERSIONS
