@@ -127,6 +127,7 @@ def per_step(repeat):
 PROBES = {
     "numba loop": "from rotorkit.engines import rk_numba; rk_numba._compiled_loop()",
     "C loop": "from rotorkit.engines import rk_c; rk_c._loop()",
+    "numpy": "import numpy",
 }
 
 
@@ -156,6 +157,7 @@ def one_time(repeat, cold_numba):
             compiles += [ready_time("numba loop", Path(base) / f"numba-cold-{i}") for i in range(1, min(repeat, 2))]
             rows["numba loop, compile into an empty cache"] = compiles
         rows["numba loop, load from the cache"] = [ready_time("numba loop", warm) for _ in range(repeat)]
+        rows["(for reference: import numpy, part of each)"] = [ready_time("numpy", warm) for _ in range(repeat)]
     for label, values in rows.items():
         print(f"  {label:<42s} {statistics.median(values):7.3f} s  (runs: {', '.join(f'{v:.3f}' for v in values)})")
 

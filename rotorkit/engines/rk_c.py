@@ -12,11 +12,15 @@ tables the numba loop uses.
 
 Why C
 -----
-numba takes ~6 s to compile the loop once per cache and ~0.8 s per process
-to load it (numba's import and target set-up). gcc builds ``rk_loop.c`` in
-well under a second, once per cache (:func:`rotorkit.codegen.cbuild.library`:
-``<cache>/shared/rk_c_loop``, signed), and loading the built library costs
-milliseconds. This module never imports numba.
+numba takes 5-6 s to compile its loop once per cache and 0.5-0.8 s per
+process to load it (numba's import and target set-up). gcc builds
+``rk_loop.c`` in about a second, once per cache
+(:func:`rotorkit.codegen.cbuild.library`: ``<cache>/shared/rk_c_loop``,
+signed), and loading the built library costs ~30 ms beyond numpy's import.
+This module never imports numba. Per step the C loop is as fast or faster
+(0.7-0.8 x numba's time on 2 and 64 states): gcc builds it for any x86-64
+and for AVX2, the loader picking the version the processor runs
+(``bench/bench_c_loop.py``).
 
 Right-hand side contract
 ------------------------
