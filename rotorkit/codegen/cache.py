@@ -173,6 +173,7 @@ def _execute(key, source, path=None):
     module = types.ModuleType(name)
     module.__file__ = str(path) if path else f"<rotorkit generated model {key}>"
     module.__rotorkit_entry__ = Path(path).parent if path else None
+    module.__rotorkit_source__ = source  # the verified text (the c back end translates it)
     exec(compile(source, module.__file__, "exec", dont_inherit=True), module.__dict__)
     sys.modules[name] = module
     return module
