@@ -23,6 +23,7 @@ import numpy as np
 
 from .errors import ParameterError, SimulationError
 from .simulate import COMPILED_METHODS, simulate
+from .system import COMPILED_BACKENDS
 
 __all__ = ["AccuracyRun", "study", "reference_run", "errors", "DEFAULT_TOLERANCES", "DEFAULT_CASES"]
 
@@ -72,7 +73,7 @@ def errors(result, reference, signals, window, highpass_hz=5.0):
 
 def reference_run(system, t_span, rtol=1e-12, sample_rate=10_000.0):
     """The tight reference: DOP853 at ``rtol`` (compiled engine when available)."""
-    engine = "compiled" if system.backend == "numba" else "scipy"
+    engine = "compiled" if system.backend in COMPILED_BACKENDS else "scipy"
     return simulate(system, t_span, method="DOP853", rtol=rtol, atol=rtol * ATOL_PER_RTOL, engine=engine,
                     sample_rate=sample_rate)
 
@@ -111,7 +112,7 @@ def study(system, t_span, *, cases=DEFAULT_CASES, tolerances=DEFAULT_TOLERANCES,
         reference = reference_run(system, t_span, sample_rate=sample_rate)
     runs = []
     for engine, method in cases:
-        if engine == "compiled" and (system.backend != "numba" or method not in COMPILED_METHODS):
+        if engine == "compiled" and (system.backend not in COMPILED_BACKENDS or method not in COMPILED_METHODS):
             continue
         for rtol in sorted(tolerances, reverse=True):
             atol = rtol * ATOL_PER_RTOL

@@ -9,9 +9,10 @@ segment sees its own side of a jump.
 Two engines run a segment (both with scipy's error control):
 
 ``"compiled"``
-    rotorkit's numba Dormand-Prince loop (:mod:`rotorkit.engines.rk_numba`),
-    RK45 and DOP853, the whole adaptive loop in compiled code. Needs the
-    numba back end.
+    rotorkit's Dormand-Prince loop, RK45 and DOP853, the whole adaptive
+    loop in compiled code: in C with the c back end
+    (:mod:`rotorkit.engines.rk_c`), in numba with the numba back end
+    (:mod:`rotorkit.engines.rk_numba`).
 ``"scipy"``
     :func:`scipy.integrate.solve_ivp`, every scipy method.
 
@@ -29,6 +30,7 @@ import numpy as np
 
 from .errors import ParameterError, SimulationError
 from .result import Result
+from .system import COMPILED_BACKENDS
 
 __all__ = ["simulate", "SCIPY_METHODS", "COMPILED_METHODS", "ENGINES"]
 
@@ -228,8 +230,14 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
     with the step size the controller proposed (``first_step=h_next``), so
     the steps, and the result, are those of one uninterrupted run.
     """
-    from .engines.rk_numba import STATUS_PAUSED, integrate
+    if system.backend == "c":
+        from .engines.rk_c import STATUS_PAUSED, integrate
 
+        core = system.core.address
+    else:
+        from .engines.rk_numba import STATUS_PAUSED, integrate
+
+        core = system.core
     p = system.within(a, b).prepared_parameters
     ts, ys, nfev, start, first_step = [], [], 0, a, None
     steps, capacity = FIRST_PIECE_STEPS, FIRST_PIECE_SAMPLES
@@ -244,7 +252,7 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
         try:
             rest = t_eval[np.searchsorted(t_eval, start, side="right" if ts else "left"):]  # a view: no copy
             began = _time.perf_counter()
-            sol = integrate(system.core, start, b, y, p, rest, first_step=first_step, pause_after=steps,
+            sol = integrate(core, start, b, y, p, rest, first_step=first_step, pause_after=steps,
                             sample_capacity=capacity, **options)
             n = sol.n_samples_done
             ts.append(sol.t[:n].copy())
@@ -273,12 +281,12 @@ def _run_compiled(system, a, b, y, t_eval, options, tick, deadline, bound=None):
 def _choose_engine(engine, system, method):
     if engine not in ENGINES:
         raise ParameterError(f"engine={engine!r} is unknown; expected one of {', '.join(ENGINES)}")
-    compiled_ok = system.backend == "numba" and method in COMPILED_METHODS
+    compiled_ok = system.backend in COMPILED_BACKENDS and method in COMPILED_METHODS
     if engine == "auto":
         return "compiled" if compiled_ok else "scipy"
     if engine == "compiled" and not compiled_ok:
         why = (f"method {method!r} (it runs {', '.join(COMPILED_METHODS)})" if method not in COMPILED_METHODS
-               else f"the {system.backend!r} back end (compile with backend='numba'; pip install 'rotorkit[fast]')")
+               else f"the {system.backend!r} back end (compile with backend='c' or 'numba')")
         raise ParameterError(f"engine='compiled' cannot run {why}; use engine='scipy'")
     return engine
 

@@ -10,27 +10,52 @@ from .errors import ParameterError
 
 __all__ = ["System", "compile_model", "available_backends", "jacobian_module"]
 
-BACKENDS = ("python", "numba")
+BACKENDS = ("python", "numba", "c")
+#: back ends whose right-hand side runs in the compiled integration loop
+COMPILED_BACKENDS = ("numba", "c")
+#: what ``backend="auto"`` picks, first available first (``c`` only for unrolled code generation)
+AUTO_ORDER = ("c", "numba", "python")
 
 
 def available_backends():
-    """The back ends usable here: ``python`` always, ``numba`` when installed."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return ("python",)
-    return BACKENDS
+    """The back ends usable here: ``python`` always, ``numba`` when installed, ``c`` when a C compiler is found."""
+    import importlib.util
+    import sys
+
+    from .codegen.cbuild import compiler
+
+    found = ["python"]
+    # find, not import: numba's import costs a quarter second (None in sys.modules: blocked, as by the tests)
+    if sys.modules["numba"] is not None if "numba" in sys.modules else importlib.util.find_spec("numba") is not None:
+        found.append("numba")
+    if compiler() is not None:
+        found.append("c")
+    return tuple(found)
 
 
-def _resolve_backend(backend):
+def _resolve_backend(backend, c_ok=True):
+    """The back end to use for ``backend`` (``auto``: $ROTORKIT_BACKEND, else the first of AUTO_ORDER available).
+
+    ``c_ok=False`` (code the C translation does not cover: structured or reduced models) turns an automatic
+    ``c`` into numba (or python).
+    """
+    requested = backend
     if backend == "auto":
         backend = os.environ.get("ROTORKIT_BACKEND", "auto")
+    if backend not in BACKENDS + ("auto",):
+        raise ParameterError(f"backend={backend!r} is unknown; expected 'auto', 'python', 'numba' or 'c'")
+    available = available_backends()
     if backend == "auto":
-        return available_backends()[-1]
-    if backend not in BACKENDS:
-        raise ParameterError(f"backend={backend!r} is unknown; expected 'auto', 'python' or 'numba'")
-    if backend not in available_backends():
-        raise ParameterError("backend='numba' needs numba: pip install 'rotorkit[fast]' (or use backend='python')")
+        return next(b for b in AUTO_ORDER if b in available and (c_ok or b != "c"))
+    if backend not in available:
+        fix = ("pip install 'rotorkit[fast]'" if backend == "numba"
+               else "install a C compiler (gcc) or set $CC; ROTORKIT_C_COMPILER=0 disables it")
+        raise ParameterError(f"backend={backend!r} is not available here: {fix} (or use backend='python')")
+    if backend == "c" and not c_ok:
+        if requested == "auto":  # $ROTORKIT_BACKEND=c asks for C where it can be had
+            return next(b for b in AUTO_ORDER[1:] if b in available)
+        raise ParameterError("backend='c' covers unrolled code generation only (this model is generated as matrices, "
+                             "codegen='structured', or reduced); use backend='numba' or 'auto'")
     return backend
 
 
@@ -48,10 +73,11 @@ class System:
         Times (s) at which the equations jump (manoeuvre start/end); the
         simulation restarts there.
     backend : str
-        ``"python"`` or ``"numba"``.
+        ``"python"``, ``"numba"`` or ``"c"``.
     core : callable
         ``core(t, y, p, dydt)``: the generated function (numba-compiled for
-        the numba back end) taking the prepared parameter vector ``p``.
+        the numba back end, a :class:`~rotorkit.codegen.cmodel.CFunction`
+        for the c back end) taking the prepared parameter vector ``p``.
     prepared_parameters : numpy.ndarray
         Parameters followed by the parameter-only subexpressions.
     """
@@ -142,9 +168,9 @@ class System:
 
     def rhs(self, t, y):
         """dy/dt at time ``t`` (s) and state ``y`` (shape (n_states,)), scipy's ``fun(t, y)``."""
-        if self.backend == "numba":
+        if self.backend in COMPILED_BACKENDS:
             dydt = np.empty(self.n_states)
-            self.core(float(t), np.asarray(y, dtype=float), self.prepared_parameters, dydt)
+            self.core(float(t), _state(y), self.prepared_parameters, dydt)
             return dydt
         dydt = [0.0] * self.n_states
         self.core(float(t), np.asarray(y, dtype=float).tolist(), self._plist, dydt)
@@ -161,9 +187,9 @@ class System:
         module, prepared, plist = self._jacobian_function()
         J = np.zeros((self.n_states, self.n_states))
         if compiled is None:
-            compiled = self.backend == "numba"
+            compiled = self.backend in COMPILED_BACKENDS
         if compiled:
-            _numba_function(module, "jac")(float(t), np.asarray(y, dtype=float), prepared, J)
+            _compiled_function(module, "jac", self.backend)(float(t), _state(y), prepared, J)
         else:
             module.jac(float(t), np.asarray(y, dtype=float).tolist(), plist, J)
         return J
@@ -176,9 +202,9 @@ class System:
     def switch_values(self, t, y):
         """The elements' switch functions g(t, y): contact onset/loss where one changes sign."""
         out = np.zeros(self.n_switches)
-        if self.backend == "numba":
-            _numba_function(self._module, "switches")(float(t), np.asarray(y, dtype=float), self.prepared_parameters,
-                                                      out)
+        if self.backend in COMPILED_BACKENDS:
+            _compiled_function(self._module, "switches", self.backend)(float(t), _state(y), self.prepared_parameters,
+                                                                       out)
         else:
             self._module.switches(float(t), np.asarray(y, dtype=float).tolist(), self._plist, out)
         return out
@@ -225,6 +251,19 @@ class System:
 _JIT_CACHE = {}
 
 
+def _state(y):
+    return np.ascontiguousarray(y, dtype=float)
+
+
+def _compiled_function(module, name, backend):
+    """The generated function ``name`` of ``module`` compiled by ``backend`` (``numba`` or ``c``)."""
+    if backend == "c":
+        from .codegen.cmodel import c_functions
+
+        return c_functions(module)[name]
+    return _numba_function(module, name)
+
+
 def _numba_function(module, name):
     func = _JIT_CACHE.get((module.__name__, name))
     if func is None:
@@ -244,9 +283,13 @@ def compile_model(model, backend="auto", codegen="auto"):
     Parameters
     ----------
     model : rotorkit.Model
-    backend : {"auto", "python", "numba"}
-        ``auto`` picks numba when it is installed (``$ROTORKIT_BACKEND``
-        overrides).
+    backend : {"auto", "c", "numba", "python"}
+        ``c`` translates the generated code to C and builds it with the
+        machine's C compiler (fast to build and to load: the quick start);
+        ``numba`` compiles it with numba; ``python`` runs it as is. ``auto``
+        (``$ROTORKIT_BACKEND`` overrides) picks ``c`` when a compiler is
+        found and the code is unrolled, else ``numba`` when installed, else
+        ``python``; a C build that fails falls back to numba with a warning.
     codegen : {"auto", "unrolled", "structured"}
         How the right-hand side is generated (:func:`rotorkit.codegen.generate.generate`):
         ``auto`` (``$ROTORKIT_CODEGEN`` overrides) unrolls small models and
@@ -259,9 +302,15 @@ def compile_model(model, backend="auto", codegen="auto"):
     """
     from .codegen.generate import codegen_mode
 
-    backend = _resolve_backend(backend)
     mode = codegen_mode(len(model.coordinate_names), codegen)
+    automatic = backend == "auto" and os.environ.get("ROTORKIT_BACKEND", "auto") == "auto"
+    backend = _resolve_backend(backend, c_ok=mode == "unrolled")
     module = _generated(model, mode, jacobian=False)
+    if backend == "c":
+        core = _c_core(model, module, fall_back=automatic)
+        if core is not None:
+            return System(model, module, backend, core)
+        backend = _resolve_backend("auto", c_ok=False)
     if backend == "numba":
         core = _numba_function(module, "rhs")
         if not core.signatures:  # compile now, with a notice if slow, not silently inside the first run
@@ -274,6 +323,26 @@ def compile_model(model, backend="auto", codegen="auto"):
     else:
         core = module.rhs
     return System(model, module, backend, core)
+
+
+def _c_core(model, module, fall_back):
+    """The C right-hand side of ``module``; None (with a warning) if it cannot be built and ``fall_back``."""
+    import warnings
+
+    from .codegen.cbuild import CompilerError
+    from .codegen.cmodel import c_functions
+    from .codegen.csource import Untranslatable
+    from .progress import announce_if_slow
+
+    try:
+        with announce_if_slow(f"compiling {model.name} with the C compiler (first use; cached on disk)"):
+            return c_functions(module)["rhs"]
+    except (CompilerError, Untranslatable, OSError) as exc:
+        if not fall_back:
+            raise
+        warnings.warn(f"{model.name}: the c back end failed ({exc}); using {_resolve_backend('auto', c_ok=False)}",
+                      RuntimeWarning, stacklevel=4)
+        return None
 
 
 _MODULES = {}

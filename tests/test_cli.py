@@ -1,5 +1,6 @@
 """Command line: strict --set parsing, run writes its files, equations prints."""
 
+import os
 import subprocess
 import sys
 
@@ -56,20 +57,28 @@ def test_equations_prints_the_model(capsys):
     assert "disk2_mass" in out and "kg" in out  # the parameter table
 
 
-def test_python_path_without_numba():
-    """With numba unavailable, 'auto' falls back to the pure-Python back end and runs."""
+@pytest.mark.parametrize("compiler", ["0", ""], ids=["no_compiler", "c"])
+def test_paths_without_numba(compiler):
+    """With numba unavailable, 'auto' takes the c back end (compiled engine) when a C compiler is found, else the
+    pure-Python back end and the scipy engine; both run."""
+    from rotorkit.codegen.cbuild import compiler as find_compiler
+
+    if not compiler and find_compiler() is None:
+        pytest.skip("no C compiler on this machine")
+    expected = ("python",) if compiler == "0" else ("python", "c")
     code = (
         "import sys; sys.modules['numba'] = None\n"
         "import rotorkit as rk\n"
-        "assert rk.available_backends() == ('python',)\n"
+        f"assert rk.available_backends() == {expected!r}, rk.available_backends()\n"
         "s = rk.preset('al31f').compile()\n"
-        "assert s.backend == 'python'\n"
         "r = rk.simulate(s, (0.0, 0.01))\n"
-        "print(r.stats['nfev'])\n"
+        "print(s.backend, r.stats['engine'], r.stats['nfev'])\n"
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    env = dict(os.environ, ROTORKIT_C_COMPILER=compiler)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env)
     assert proc.returncode == 0, proc.stderr
-    assert int(proc.stdout.strip()) > 0
+    backend, engine, nfev = proc.stdout.split()
+    assert (backend, engine) == (expected[-1], "scipy" if compiler == "0" else "compiled") and int(nfev) > 0
 
 
 def test_accuracy_command_writes_table_and_figures(tmp_path, capsys):

@@ -410,7 +410,7 @@ def test_with_parameters_rejects_roll_ending_before_start():
 
 
 def test_compile_rejects_unknown_backend():
-    with pytest.raises(ParameterError, match=r"backend='fortran' is unknown; expected 'auto', 'python' or 'numba'"):
+    with pytest.raises(ParameterError, match=r"backend='fortran' is unknown; expected 'auto', 'python', 'numba' or 'c'"):
         _jeffcott().compile(backend="fortran")
 
 

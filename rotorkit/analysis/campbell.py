@@ -329,7 +329,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         interpolation between grid points).
     t, equilibrium, rub_engaged, unbalance, cage_samples, method
         As in :func:`~rotorkit.analysis.modes.natural_frequencies` (systems only).
-    backend : {"auto", "python", "numba"}
+    backend : {"auto", "c", "numba", "python"}
         Used only when a model has to be compiled.
     xtol : float, optional
         Absolute tolerance (rad/s) of the located speeds (default 1e-9 of the

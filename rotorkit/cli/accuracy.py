@@ -3,6 +3,7 @@
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..system import COMPILED_BACKENDS
 from .common import add_scene_arguments, load_preset, positive_float, save_figure
 
 
@@ -98,7 +99,7 @@ def main(args):
                  f"spectra {window[0]:g}-{window[1]:g} s)")
     written = [out / "accuracy.csv", save_figure(fig, out / "work_precision.png")]
     growth = {}
-    engine = "compiled" if system.backend == "numba" else "scipy"
+    engine = "compiled" if system.backend in COMPILED_BACKENDS else "scipy"
     for rtol in (1e-4, 1e-6, 1e-8):
         growth[f"DOP853 rtol {rtol:g}"] = simulate(system, (0.0, t_end), rtol=rtol, atol=rtol * accuracy.ATOL_PER_RTOL,
                                                    engine=engine)

@@ -13,8 +13,8 @@ def add_linear_arguments(parser, *, speeds=False):
     parser.add_argument("--out", help="output folder for figures and CSV (default rotorkit-out/<preset>)")
     parser.add_argument("--units", default="rad/s", choices=("rad/s", "Hz", "rpm"),
                         help="frequency and speed units of the printed table and the figures (default rad/s)")
-    parser.add_argument("--backend", default="auto", choices=("auto", "python", "numba"),
-                        help="code back end (auto: numba when installed)")
+    parser.add_argument("--backend", default="auto", choices=("auto", "c", "numba", "python"),
+                        help="code back end (auto: c when a C compiler is found, else numba when installed)")
     parser.add_argument("--speed-parameter", help="swept rotor speed, e.g. LP_speed (default: the first rotor's)")
     if speeds:
         parser.add_argument("--speeds", default=None, metavar="START:STOP:COUNT",

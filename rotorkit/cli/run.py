@@ -18,10 +18,10 @@ def register(sub):
     run.add_argument("--rtol", type=positive_float, default=1e-6, help="relative tolerance (default 1e-6)")
     run.add_argument("--atol", type=positive_float, default=1e-9, help="absolute tolerance in SI units (default 1e-9)")
     run.add_argument("--sample-rate", type=positive_float, default=10_000.0, help="output samples per second (default 10000)")
-    run.add_argument("--backend", default="auto", choices=("auto", "python", "numba"),
-                     help="code back end (auto: numba when installed)")
+    run.add_argument("--backend", default="auto", choices=("auto", "c", "numba", "python"),
+                     help="code back end (auto: c when a C compiler is found, else numba when installed)")
     run.add_argument("--engine", default="auto", choices=("auto", "compiled", "scipy"),
-                     help="integration engine (auto: compiled when numba is available)")
+                     help="integration engine (auto: compiled with the c or numba back end)")
     run.add_argument("--check-convergence", action="store_true",
                      help="also run at 100 times tighter tolerances and report how far the two differ "
                           "(about twice the time; see docs/envelope.md)")

@@ -262,7 +262,7 @@ def reduce(system_or_model, modes, *, keep=None, backend=None):
     keep : sequence of str or int, optional
         More coordinates to keep physical: names (``"x7"``) or station
         numbers (all their coordinates), e.g. where a sensor sits.
-    backend : {"auto", "python", "numba"}, optional
+    backend : {"auto", "c", "numba", "python"}, optional
         Default: the system's, or ``auto`` for a model.
 
     Returns
@@ -295,7 +295,8 @@ def reduce(system_or_model, modes, *, keep=None, backend=None):
         raise TypeError(f"reduce: expected a rotorkit System or Model, got {type(system_or_model).__name__}")
     if backend is None:
         backend = getattr(system_or_model, "backend", "auto")
-    backend = _resolve_backend(backend)
+        backend = "auto" if backend == "c" else backend  # the reduced code is matrices: not for the c back end
+    backend = _resolve_backend(backend, c_ok=False)
     module = _module(model)
     names = tuple(module.STATE_NAMES[: module.N_COORDINATES])
     kept = _keep_indices(keep, names)
