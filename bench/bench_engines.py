@@ -6,10 +6,13 @@ Radau and BDF, which take minutes). Prints ratios measured in this run.
 1. The generated RHS against the hand-written compiled one, both driven by
    the same compiled Dormand-Prince loop over the same run: the cost of an
    evaluation inside compiled code, where call overhead does not hide it.
-2. Engines and methods at the default tolerance.
+   Then the c back end (generated C in the C loop) against the same
+   hand-written numba reference.
+2. Engines, methods and back ends at the default tolerance.
 3. Cold start (fresh, empty cache folders) against warm start of
-   ``rotorkit run al31f``: wall and CPU time, and the time beyond the
-   simulation (``python bench/bench_engines.py --sections 3``).
+   ``rotorkit run al31f``, with the c and the numba back end: wall and CPU
+   time, and the time beyond the simulation
+   (``python bench/bench_engines.py --sections 3``).
 """
 
 import argparse
@@ -41,7 +44,7 @@ def timed(fn, repeat=5):
     return statistics.median(times), out
 
 
-def segmented(core, p_for, events, rtol=1e-6, atol=1e-9):
+def segmented(core, p_for, events, rtol=1e-6, atol=1e-9, integrate=integrate):
     """The preset run in the compiled loop, restarting at the roll steps like simulate()."""
     cuts = [SPAN[0], *events, SPAN[1]]
     y, nfev = np.zeros(32), 0
@@ -60,10 +63,19 @@ def bench_rhs_in_loop():
     hand_core, packed = hw.make_rhs_numba(), hw.pack(P)
     # the hand-written core switches the roll at t >= roll_end; nudge like System.within does
     hand = lambda: segmented(hand_core, lambda a, b: packed, (2.0, 4.0))  # noqa: E731
-    generated(), hand()  # compile
-    runs = {"generated": [], "hand": []}
+    fns = {"generated": generated, "hand": hand}
+    if "c" in rk.available_backends():
+        from rotorkit.engines.rk_c import integrate as integrate_c
+
+        c_system = rk.preset("al31f").compile(backend="c")
+        fns["c"] = lambda: segmented(c_system.core.address,  # noqa: E731
+                                     lambda a, b: c_system.within(a, b).prepared_parameters, c_system.time_events,
+                                     integrate=integrate_c)
+    for fn in fns.values():
+        fn()  # compile
+    runs = {name: [] for name in fns}
     for _ in range(7):  # interleaved, so a change of the machine's load hits both alike
-        for name, fn in (("generated", generated), ("hand", hand)):
+        for name, fn in fns.items():
             t0 = time.perf_counter()
             out = fn()
             runs[name].append((time.perf_counter() - t0, out))
@@ -75,22 +87,33 @@ def bench_rhs_in_loop():
     print(f"   hand-written RHS: {t_hand:.3f} s, {n_hand} evaluations, {t_hand / n_hand * 1e9:6.0f} ns per evaluation+step")
     print(f"   ratio generated / hand-written (per evaluation): {(t_gen / n_gen) / (t_hand / n_hand):.2f} "
           f"(pairwise: {ratios[0]:.2f}-{ratios[-1]:.2f})")
+    if "c" in runs:
+        t_c, (n_c, y_c) = statistics.median(t for t, _ in runs["c"]), runs["c"][0][1]
+        ratios = sorted((g / n_c) / (h / n_hand) for (g, _), (h, _) in zip(runs["c"], runs["hand"]))
+        print(f"   c back end (generated C in the C loop): {t_c:.3f} s, {n_c} evaluations, "
+              f"{t_c / n_c * 1e9:6.0f} ns per evaluation+step; max |y_c - y_numba| / max |y| = "
+              f"{np.max(np.abs(y_c - y_gen)) / np.max(np.abs(y_gen)):.1e}")
+        print(f"   ratio c / hand-written numba (per evaluation): {(t_c / n_c) / (t_hand / n_hand):.2f} "
+              f"(pairwise: {ratios[0]:.2f}-{ratios[-1]:.2f})")
     return t_hand
 
 
 def bench_engines(slow, t_hand):
-    system = rk.preset("al31f").compile(backend="numba")
-    rows = [("compiled", "DOP853"), ("compiled", "RK45"), ("scipy", "DOP853"), ("scipy", "RK45")]
+    backends = [b for b in ("numba", "c") if b in rk.available_backends()]
+    systems = {b: rk.preset("al31f").compile(backend=b) for b in backends}
+    rows = [("compiled", "DOP853", b) for b in backends] + [("compiled", "RK45", b) for b in backends]
+    rows += [("scipy", "DOP853", "numba"), ("scipy", "RK45", "numba")]
     if slow:
-        rows += [("scipy", "LSODA"), ("scipy", "Radau"), ("scipy", "BDF")]
-    print("\n2. simulate(), AL-31F 0-6 s, rtol 1e-6, atol 1e-9, numba RHS:")
-    rk.simulate(system, (0.0, 0.01))  # load the engine
+        rows += [("scipy", "LSODA", "numba"), ("scipy", "Radau", "numba"), ("scipy", "BDF", "numba")]
+    print("\n2. simulate(), AL-31F 0-6 s, rtol 1e-6, atol 1e-9:")
+    for system in systems.values():
+        rk.simulate(system, (0.0, 0.01))  # load the engine
     results = {}
-    for engine, method in rows:
+    for engine, method, backend in rows:
         repeat = 3 if engine == "compiled" else 1
-        wall, res = timed(lambda: rk.simulate(system, SPAN, engine=engine, method=method), repeat=repeat)
-        results[(engine, method)] = wall
-        print(f"   {engine:9s} {method:7s} {wall:8.2f} s  {res.stats['nfev']:9d} evaluations  "
+        wall, res = timed(lambda: rk.simulate(systems[backend], SPAN, engine=engine, method=method), repeat=repeat)
+        results[(engine, method)] = results.get((engine, method), wall)
+        print(f"   {engine:9s} {method:7s} {backend:6s} {wall:8.2f} s  {res.stats['nfev']:9d} evaluations  "
               f"{wall / t_hand:7.1f} x the hand-written compiled reference loop")
     base = results[("compiled", "DOP853")]
     print(f"   scipy DOP853 / compiled DOP853: {results[('scipy', 'DOP853')] / base:.1f}")
@@ -130,23 +153,27 @@ def bench_start(repeat=3):
     base["MPLBACKEND"] = "Agg"
     rows = {}
     with tempfile.TemporaryDirectory() as tmp:
-        for label, extra in (("cold", {}), ("cold, serial", {"ROTORKIT_BACKGROUND_COMPILE": "0"})):
+        cases = [("c", {"ROTORKIT_BACKEND": "c"})] if "c" in rk.available_backends() else []
+        cases += [("numba", {"ROTORKIT_BACKEND": "numba"}),
+                  ("numba serial", {"ROTORKIT_BACKEND": "numba", "ROTORKIT_BACKGROUND_COMPILE": "0"})]
+        for label, extra in cases:
             runs = []
             for k in range(repeat):  # fresh cache folders every time: nothing is left from an earlier run
-                env = dict(base, ROTORKIT_CACHE_DIR=f"{tmp}/{label[-6:]}{k}", **extra)
+                env = dict(base, ROTORKIT_CACHE_DIR=f"{tmp}/{label.replace(' ', '_')}{k}", **extra)
                 runs.append(run_cli(env, f"{tmp}/out"))
-            rows[label] = runs
-        env = dict(base, ROTORKIT_CACHE_DIR=f"{tmp}/cold0")  # warm: the first cold run's cache
-        rows["warm"] = [run_cli(env, f"{tmp}/out") for _ in range(repeat)]
+            rows[f"cold, {label}"] = runs
+        for label, extra in cases[:2]:
+            env = dict(base, ROTORKIT_CACHE_DIR=f"{tmp}/{label}0", **extra)  # warm: the first cold run's cache
+            rows[f"warm, {label}"] = [run_cli(env, f"{tmp}/out") for _ in range(repeat)]
     for label, runs in rows.items():
         wall, cpu, sim = _median_runs(runs)
         spread = f"{min(r[0] for r in runs):.2f}-{max(r[0] for r in runs):.2f}"
-        print(f"   {label:13s} {wall:6.2f} s wall ({spread}), {cpu:6.2f} s CPU, simulate {sim:.2f} s, "
+        print(f"   {label:19s} {wall:6.2f} s wall ({spread}), {cpu:6.2f} s CPU, simulate {sim:.2f} s, "
               f"beyond the simulation {wall - sim:5.2f} s wall")
-    print(f"   cold / warm total: {_median_runs(rows['cold'])[0] / _median_runs(rows['warm'])[0]:.1f}")
-    t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-c", "import rotorkit, numba, matplotlib.figure"], check=True)
-    print(f"   (python -c 'import rotorkit, numba, matplotlib.figure': {time.perf_counter() - t0:.2f} s)")
+    for code in ("import rotorkit", "import rotorkit, matplotlib.figure", "import rotorkit, numba"):
+        t0 = time.perf_counter()
+        subprocess.run([sys.executable, "-c", code], check=True)
+        print(f"   (python -c '{code}': {time.perf_counter() - t0:.2f} s)")
     print(f"   load average (1, 5, 15 min): {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
