@@ -181,3 +181,24 @@ def test_no_warning_without_a_compiler(monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert model.compile().backend in ("numba", "python")
+
+
+@needs_cc
+def test_loop_built_in_a_background_thread(tmp_path, monkeypatch):
+    """rotorkit run starts the C loop's build in a thread; integrate then uses that loop, built once."""
+    import functools
+
+    from rotorkit.engines import rk_c
+
+    monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(rk_c, "_loop", functools.lru_cache(maxsize=None)(rk_c._loop.__wrapped__))
+    thread = rk_c.build_in_background()
+    assert thread is not None
+    thread.join(timeout=600)
+    assert rk_c._loop.cache_info().currsize == 1 and rk_c.build_in_background() is None
+    assert list((tmp_path / "shared" / "rk_c_loop").glob("rk_loop.so"))
+    system = rk.Model([rk.Rotor(name="R", stations=(1,), speed=0.0), Disk(station=1, mass=2.0, radius=0.1),
+                       rk.ElasticSupport(station=1, stiffness=2e4)], name="c_backend_thread").compile(backend="c")
+    result = rk.simulate(system, (0.0, 0.1), y0=system.initial_state(x1=1e-4), sample_rate=1000.0)
+    assert result.stats["engine"] == "compiled" and rk_c._loop.cache_info().misses == 1
+    np.testing.assert_allclose(result["x1"], 1e-4 * np.cos(100.0 * result.t), rtol=0, atol=1e-9)

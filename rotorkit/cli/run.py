@@ -80,15 +80,23 @@ def main(args):
 
 
 def _compile_integrator_ahead(args):
-    """On a cold cache, compile the integration loop in another process while this one derives and compiles the model.
+    """On a cold cache, build the integration loop beside this process's derivation and compilation of the model.
 
-    See :func:`rotorkit.engines.rk_numba.compile_loop_in_background`; nothing happens when the run will not use the
-    compiled engine or the loop is cached already.
+    c back end: gcc in a thread's child process (:func:`rotorkit.engines.rk_c.build_in_background`); numba: another
+    process (:func:`rotorkit.engines.rk_numba.compile_loop_in_background`). Nothing happens when the run will not
+    use the compiled engine or the loop is loaded already.
     """
     from ..simulate import COMPILED_METHODS
     from ..system import _resolve_backend
 
-    if args.engine == "scipy" or args.method not in COMPILED_METHODS or _resolve_backend(args.backend) != "numba":
+    if args.engine == "scipy" or args.method not in COMPILED_METHODS:
+        return None
+    backend = _resolve_backend(args.backend)
+    if backend == "c":
+        from ..engines.rk_c import build_in_background
+
+        return build_in_background()
+    if backend != "numba":
         return None
     from ..engines.rk_numba import compile_loop_in_background
 

@@ -221,6 +221,29 @@ def _loop():
         return _Loop(cbuild.library(_folder(), _NAME, text))
 
 
+def build_in_background():
+    """Start building (or loading) the C loop in a thread of this process; returns the thread, or None if loaded.
+
+    gcc runs as a child process, so the thread holds no GIL while it waits: a caller that will integrate soon but
+    has other work first (``rotorkit run`` derives and compiles its model) gets the loop built on another core in
+    the meantime. Errors are left for the first :func:`integrate` to raise (it builds the loop again).
+    """
+    import threading
+
+    if _loop.cache_info().currsize:
+        return None
+
+    def build():
+        try:
+            _loop()
+        except Exception:  # noqa: BLE001 - integrate() builds it again and raises with the compiler's message
+            _loop.cache_clear()
+
+    thread = threading.Thread(target=build, name="rotorkit-c-loop", daemon=True)
+    thread.start()
+    return thread
+
+
 def _core_address(core):
     """The address of the C right-hand side (an int or a ctypes function pointer); CoreSignatureError if not one."""
     if isinstance(core, ctypes._CFuncPtr):
