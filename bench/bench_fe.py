@@ -29,10 +29,11 @@ Sections (each prints ratios measured in this run, and the load average):
             rub and unbalance stations), each 1 s at rtol 1e-6 in the same
             compiled loop, medians: the speed ratio, and the spectral error
             of the rub station's response (defined in ``spectral_error``).
-``codegen`` unrolled against structured code generation by size: generate +
-            numba compile time and one right-hand side inside the loop; the
-            ``auto`` threshold (``rotorkit.codegen.generate.STRUCTURED_FROM``)
-            comes from this table.
+``codegen`` unrolled (numba, and C with the c back end) against structured
+            (numba) code generation by size: generate + compile time and one
+            right-hand side inside the loop; the ``auto`` threshold
+            (``rotorkit.codegen.STRUCTURED_FROM``) comes from this
+            table.
 ``solve``   the structured code's two ways of applying ``M0^-1`` in the
             right-hand side (dense product, band solve) by size; the
             ``auto`` rule (``rotorkit.codegen.structured.band_pays``) comes
@@ -303,30 +304,38 @@ def section_cold(args):
 
 # ---------------------------------------------------------------- codegen paths
 def section_codegen(args):
-    from rotorkit.engines.rk_numba import integrate
+    from rotorkit import available_backends
+    from rotorkit.engines import rk_c, rk_numba
 
-    print(f"\ncodegen paths by size (fresh cache; load {load():.1f}): generate + numba compile, and the cost of one "
+    cases = [("numba", "unrolled"), ("numba", "structured")]
+    if "c" in available_backends():
+        cases.append(("c", "unrolled"))
+    print(f"\ncodegen paths by size (fresh cache; load {load():.1f}): generate + compile, and the cost of one "
           "right-hand side in the compiled loop (rotor without rub, 0.05 s)")
-    print(f"   {'nodes':>5s} {'coords':>6s} {'unrolled s':>10s} {'structured s':>12s} {'unrolled us':>11s} "
-          f"{'structured us':>13s}")
+    labels = [f"{mode[:5]}/{backend}" for backend, mode in cases]
+    print(f"   {'nodes':>5s} {'coords':>6s} " + " ".join(f"{label + ' s':>15s}" for label in labels) + " "
+          + " ".join(f"{label + ' us':>16s}" for label in labels))
     os.environ["ROTORKIT_CACHE_DIR"] = tempfile.mkdtemp(prefix="rk-bench-fe-")
     for nodes in args.codegen_nodes:
         model = fe_rotor(nodes, rub=False, name=f"cg{nodes}")
         model.equations()
         row = []
-        for mode in ("unrolled", "structured"):
+        for backend, mode in cases:
             t0 = time.perf_counter()
-            system = model.compile(backend="numba", codegen=mode)
+            system = model.compile(backend=backend, codegen=mode)
             row.append(time.perf_counter() - t0)
-        for mode in ("unrolled", "structured"):
-            system = model.compile(backend="numba", codegen=mode)
+        for backend, mode in cases:
+            system = model.compile(backend=backend, codegen=mode)
+            integrate, core = ((rk_c.integrate, system.core.address) if backend == "c"
+                               else (rk_numba.integrate, system.core))
             y0 = np.zeros(system.n_states)
             p = system.within(0.0, 0.05).prepared_parameters
-            integrate(system.core, 0.0, 0.01, y0, p, np.array([0.01]))
-            med, _, _, sol = median_time(lambda: integrate(system.core, 0.0, 0.05, y0, p, np.array([0.05])),
-                                         args.repeat)
+            integrate(core, 0.0, 0.01, y0, p, np.array([0.01]))
+            med, _, _, sol = median_time(lambda: integrate(core, 0.0, 0.05, y0, p, np.array([0.05])), args.repeat)
             row.append(med / sol.nfev * 1e6)
-        print(f"   {nodes:5d} {4 * nodes:6d} {row[0]:10.2f} {row[1]:12.2f} {row[2]:11.2f} {row[3]:13.2f}", flush=True)
+        k = len(cases)
+        print(f"   {nodes:5d} {4 * nodes:6d} " + " ".join(f"{v:15.2f}" for v in row[:k]) + " "
+              + " ".join(f"{v:16.2f}" for v in row[k:]), flush=True)
 
 
 # ---------------------------------------------------------------- M0^-1: dense product or band solve

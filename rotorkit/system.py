@@ -300,7 +300,7 @@ def compile_model(model, backend="auto", codegen="auto"):
     -------
     System
     """
-    from .codegen.generate import codegen_mode
+    from .codegen import codegen_mode
 
     mode = codegen_mode(len(model.coordinate_names), codegen)
     automatic = backend == "auto" and os.environ.get("ROTORKIT_BACKEND", "auto") == "auto"

@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from . import CODEGEN_MODES, STRUCTURED_FROM, codegen_mode  # noqa: F401 - importable from here as before
 from .printer import MATH_FUNCTIONS, RhsPrinter
 
 __all__ = ["GeneratedCode", "generate", "mass_blocks", "codegen_mode", "STRUCTURED_FROM"]
@@ -274,34 +275,6 @@ def _kept_pivots(blocks, keys):
         upper = _BlockFactor(block, names).upper
         kept += [(b, b) for k, b in enumerate(block) if (b, b) in names and upper[k][k] == names[(b, b)]]
     return kept
-
-
-STRUCTURED_FROM = 40
-"""Models with at least this many coordinates get the structured path (``auto``); see :func:`codegen_mode`."""
-
-CODEGEN_MODES = ("auto", "unrolled", "structured")
-
-
-def codegen_mode(n_coordinates, mode="auto"):
-    """``'unrolled'`` or ``'structured'`` for a model of ``n_coordinates``.
-
-    ``auto`` (``$ROTORKIT_CODEGEN`` overrides it) picks the structured path
-    from :data:`STRUCTURED_FROM` coordinates: below it, unrolled code is as
-    fast as hand-written code and compiles in seconds; above it, unrolled
-    code grows with the square of the model and numba's compile time with it
-    (``bench/bench_fe.py --codegen`` measures both).
-    """
-    import os
-
-    from ..errors import ParameterError
-
-    if mode == "auto":
-        mode = os.environ.get("ROTORKIT_CODEGEN", "auto") or "auto"
-    if mode not in CODEGEN_MODES:
-        raise ParameterError(f"codegen={mode!r} is unknown; expected 'auto', 'unrolled' or 'structured'")
-    if mode == "auto":
-        return "structured" if n_coordinates >= STRUCTURED_FROM else "unrolled"
-    return mode
 
 
 def function_prelude(name, out_arg, needed, *, doprint, replacements, q, u, params, derived, n_prepared,
