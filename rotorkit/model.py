@@ -4,8 +4,6 @@ import difflib
 import hashlib
 from collections import defaultdict
 
-import sympy as sp
-
 from .elements.base import AXES, Element
 from .errors import ParameterError, TopologyError
 from .units import to_si
@@ -401,11 +399,15 @@ class Context:
         name = f"{axis}{station}"
         if name not in self._symbols.coordinates:
             if drive and axis == "alpha":
+                import sympy as sp
+
                 return sp.S.Zero, sp.S.Zero
             raise TopologyError(f"{self._element!r}: station {station!r} has no coordinate {name}")
         return self._symbols.coordinates[name], self._symbols.speeds[name]
 
     def _root(self, station):
+        import sympy as sp
+
         rotor = self.model.rotor_of(station)
         expr = sp.S.One
         while rotor.speed is None:

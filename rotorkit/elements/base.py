@@ -53,8 +53,6 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import ClassVar, Mapping
 
-import sympy as sp
-
 from ..errors import ParameterError
 from ..units import to_si
 
@@ -78,14 +76,25 @@ class Terms:
     switches : tuple of sympy.Expr
         Functions g(q, t) whose zero crossings are kinks of the equations
         (contact onset and loss); an integrator may locate them and restart.
+
+    An energy left out is sympy's zero (sympy is imported here, when an
+    element contributes, not when it is built: a warm start derives nothing
+    and never loads sympy).
     """
 
-    kinetic: sp.Expr = sp.S.Zero
-    potential: sp.Expr = sp.S.Zero
-    dissipation: sp.Expr = sp.S.Zero
+    kinetic: object = None
+    potential: object = None
+    dissipation: object = None
     loads: Mapping = field(default_factory=dict)
     switches: tuple = ()
     quadratic: tuple = ()
+
+    def __post_init__(self):
+        import sympy as sp
+
+        for name in ("kinetic", "potential", "dissipation"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, sp.S.Zero)
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,6 +127,8 @@ class QuadraticForm:
     gyroscopic: object = None
 
     def _form(self, A, left, right):
+        import sympy as sp
+
         if A is None:
             return sp.S.Zero
         m = len(left)

@@ -40,8 +40,6 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 from typing import Callable
 
-import sympy as sp
-
 from ..errors import ParameterError
 from ..units import to_si
 from .base import Element, Terms
@@ -99,6 +97,8 @@ class BaseRotation(Element):
             if not (isinstance(self.rate, (tuple, list)) and len(self.rate) == 3 and all(map(callable, self.rate))):
                 raise ParameterError(f"BaseRotation.rate = {self.rate!r}: expected three functions of t (W_x, W_y, W_z)")
             object.__setattr__(self, "rate", tuple(self.rate))
+            import sympy as sp
+
             self.rates(sp.Symbol("t", real=True), {})
         times = self.event_times
         if isinstance(times, (str, bytes)) or not hasattr(times, "__iter__"):
@@ -125,12 +125,16 @@ class BaseRotation(Element):
     def structure(self):
         if self.rate is None:
             return Element.structure(self)
+        import sympy as sp
+
         t = sp.Symbol("t", real=True)
         return (type(self).__name__, self.label(), tuple(sp.srepr(w) for w in self.rates(t, {})),
                 self.axial_positions)
 
     def rates(self, t, p):
         """(W_x, W_y, W_z) as sympy expressions."""
+        import sympy as sp
+
         if self.rate is None:
             return tuple(p[f"rate_{a}"] for a in "xyz")
         out = []
@@ -154,6 +158,8 @@ class BaseRotation(Element):
         ``ctx`` may be bound to any element: the symbols are this element's
         parameters.
         """
+        import sympy as sp
+
         p = {f: ctx.parameter(self, f) for f in self.parameters()}
         W = sp.Matrix(self.rates(ctx.t, p))
         c = sp.Matrix([p[f"center_{a}"] for a in "xyz"])
@@ -180,6 +186,8 @@ def base_frame(ctx):
 
 def point_mass_loads(mass, q, u, z, frame):
     """``{x: F_x, y: F_y}``: the Euler, centripetal and Coriolis loads on a point mass at ``(x, y, z)``."""
+    import sympy as sp
+
     (x, y), (xd, yd) = q, u
     r = sp.Matrix([x, y, z]) - frame.c
     v = sp.Matrix([xd, yd, 0])
@@ -238,6 +246,8 @@ def tilt_loads(Id, Ip, spin, W, t, q, u, Va, Vb, Mr, R):
     sympy.Matrix
         n x 1 loads on ``q``.
     """
+    import sympy as sp
+
     a, b, ad, bd = sp.symbols("_a _b _ad _bd", real=True)
     fields = {a: ("q", Va), b: ("q", Vb), ad: ("u", Va), bd: ("u", Vb)}
     energy = sp.Poly(tilt_kinetic(Id, Ip, spin, (a, b), (ad, bd), W), a, b, ad, bd)

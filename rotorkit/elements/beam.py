@@ -27,8 +27,6 @@ import functools
 import math
 from dataclasses import dataclass
 
-import sympy as sp
-
 from ..errors import ParameterError, TopologyError
 from .base import Element, QuadraticForm, Terms
 from .base_motion import BaseRotation, base_frame, tilt_loads
@@ -54,6 +52,8 @@ def plane_template():
         gyroscopic integral per ``rho I_p``); and ``"rotary_vector"``, 4x1,
         ``int N_beta^T dz``. Entries are rational in l and phi.
     """
+    import sympy as sp
+
     z, l = sp.symbols("z l", positive=True)
     phi = sp.Symbol("phi", nonnegative=True)
     c = sp.symbols("c0:4")
@@ -85,6 +85,8 @@ def plane_template():
 
 def _cross(v):
     """The matrix of ``v x`` (3x3)."""
+    import sympy as sp
+
     return sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
 
 
@@ -290,6 +292,8 @@ class BeamSegment(Element):
 
     def _section(self, p):
         """(rho A, rho I, EI, kappa G A, G Ip, l) of one element, from the parameter symbols ``p``."""
+        import sympy as sp
+
         do, di = p["outer_diameter"], p["inner_diameter"]
         if self.inner_diameter == 0:  # structural: a solid shaft has no d_i terms
             area, inertia = sp.pi * do**2 / 4, sp.pi * do**4 / 64
@@ -304,6 +308,8 @@ class BeamSegment(Element):
 
     def element_matrices(self, p):
         """Per-plane 4x4 (K, M) over ``(w1, beta1, w2, beta2)`` and the gyroscopic integral, from symbols ``p``."""
+        import sympy as sp
+
         tpl = plane_template()
         l_sym, phi_sym = tpl["symbols"]
         rhoA, rhoI, EI, kGA, _, l = self._section(p)
@@ -324,6 +330,8 @@ class BeamSegment(Element):
         ``xreplace``: the matrix products and substitutions of the template
         are not redone for every element of a long rotor.
         """
+        import sympy as sp
+
         key = (self.theory, self.rotary_inertia, self.gyroscopic, self.inner_diameter == 0,
                self.shear_coefficient is None, self.elements)
         cached = _FORMS.get(key)
@@ -350,6 +358,8 @@ class BeamSegment(Element):
         return cached
 
     def contribute(self, ctx):
+        import sympy as sp
+
         p = ctx.p
         (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t = self._forms_template()
         rename = {v: p[k] for k, v in placeholders.items() if k in p}
@@ -398,6 +408,8 @@ class BeamSegment(Element):
         ``rho I_p``) integrated over the element with the rotation shape functions
         (:func:`tilt_loads`).
         """
+        import sympy as sp
+
         p = ctx.p
         tpl = plane_template()
         l_sym, phi_sym = tpl["symbols"]
@@ -439,6 +451,8 @@ class BeamSegment(Element):
         return loads
 
     def rigid_body_mass(self, ctx):
+        import sympy as sp
+
         p = ctx.p
         _, M, _ = self.element_matrices(p)
         sign = sp.diag(1, -1, 1, -1)

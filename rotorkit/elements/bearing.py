@@ -5,10 +5,8 @@ import numbers
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from ..errors import ParameterError, TopologyError
-from ..symbolic.functions import ramp
 from .base import Element, Terms
 from .rotor import check_station
 
@@ -20,6 +18,8 @@ __all__ = ["BallBearing"]
 
 def _clean(value):
     """A trigonometric constant as sympy number, exact where it is 0 or +-1."""
+    import sympy as sp
+
     for exact in (0, 1, -1):
         if abs(value - exact) < 1e-14:
             return sp.Integer(exact)
@@ -148,6 +148,10 @@ class BallBearing(Element):
         return (ctx.spin_angle(self.inner_station) * ri + ctx.spin_angle(self.outer_station) * ro) / (ri + ro)
 
     def contribute(self, ctx):
+        import sympy as sp
+
+        from ..symbolic.functions import ramp
+
         p = ctx.p
         (xi, _), (yi, _) = ctx.coord(self.inner_station, "x"), ctx.coord(self.inner_station, "y")
         (xo, _), (yo, _) = ctx.coord(self.outer_station, "x"), ctx.coord(self.outer_station, "y")

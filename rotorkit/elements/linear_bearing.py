@@ -38,14 +38,12 @@ displacement minus the pedestal's (``px<station>``, ``py<station>``).
 import dataclasses
 from dataclasses import dataclass
 
-import sympy as sp
-
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
 from .base_motion import base_frame, point_mass_loads
 from .pedestal import PEDESTAL_AXES, Pedestal
 from .rotor import check_station
-from .speed import check_table, interpolate_table
+from .speed import check_table
 
 __all__ = ["LinearBearing"]
 
@@ -307,6 +305,8 @@ class LinearBearing(Element):
                     "pedestal station with other_station, or on different stations")
 
     def rigid_body_mass(self, ctx):
+        import sympy as sp
+
         if self.pedestal is None:
             return {}
         m = ctx.p[_PEDESTAL + "mass"]
@@ -320,6 +320,10 @@ class LinearBearing(Element):
     # -- physics ----------------------------------------------------------
     def coefficient(self, ctx, f):
         """Coefficient ``f`` as an expression (0 if absent): a symbol, or the table at the rotor speed."""
+        import sympy as sp
+
+        from ..symbolic.tables import interpolate_table
+
         if getattr(self, f) is None:
             return sp.S.Zero
         if self.speeds is None:
@@ -356,6 +360,8 @@ class LinearBearing(Element):
         return potential, dissipation, loads
 
     def contribute(self, ctx):
+        import sympy as sp
+
         if self.pedestal is not None:
             housing = PEDESTAL_AXES
         else:

@@ -3,10 +3,7 @@
 from dataclasses import dataclass
 from typing import Callable
 
-import sympy as sp
-
 from ..errors import ParameterError, TopologyError
-from ..symbolic.functions import window
 from .base import Element, Terms
 
 __all__ = ["Maneuver"]
@@ -109,6 +106,8 @@ class Maneuver(Element):
             for f in ("accel_x", "accel_y"):
                 if not callable(getattr(self, f)):
                     raise ParameterError(f"Maneuver.profile: {f} must be a function of time, got {getattr(self, f)!r}")
+            import sympy as sp
+
             self.acceleration(sp.Symbol("t", real=True), {})  # fail early on unusable functions
 
     def _default_label(self):
@@ -135,11 +134,17 @@ class Maneuver(Element):
         base = Element.structure(self)
         if self.kind != "profile":
             return base
+        import sympy as sp
+
         t = sp.Symbol("t", real=True)
         return base[:2] + (tuple(sp.srepr(a) for a in self.acceleration(t, {})), self.event_times)
 
     def acceleration(self, t, p):
         """The field ``(a_x, a_y)`` as sympy expressions of ``t`` and the symbols ``p``."""
+        import sympy as sp
+
+        from ..symbolic.functions import window
+
         if self.kind == "steady":
             return sp.S.Zero, -p["gravity"]
         if self.kind == "barrel_roll":

@@ -3,7 +3,6 @@
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
@@ -163,6 +162,8 @@ class Disk(Element):
         return None
 
     def rigid_body_mass(self, ctx):
+        import sympy as sp
+
         x, y = ctx.coord(self.station, "x")[0], ctx.coord(self.station, "y")[0]
         m = ctx.p["mass"]
         return {x: (m, sp.S.Zero), y: (sp.S.Zero, m)}
@@ -174,6 +175,8 @@ class Disk(Element):
         return p["mass"] * p["radius"] ** 2 / 2
 
     def contribute(self, ctx):
+        import sympy as sp
+
         p = ctx.p
         (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         spin = ctx.speed(self.station)
@@ -235,6 +238,8 @@ class LumpedMass(Element):
         return ((self.station, "x"), (self.station, "y"))
 
     def rigid_body_mass(self, ctx):
+        import sympy as sp
+
         x, y = ctx.coord(self.station, "x")[0], ctx.coord(self.station, "y")[0]
         m = ctx.p["mass"]
         return {x: (m, sp.S.Zero), y: (sp.S.Zero, m)}

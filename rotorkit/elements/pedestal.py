@@ -21,8 +21,6 @@ Its values are parameters of the bearing, ``<bearing>_pedestal_mass``,
 import dataclasses
 from dataclasses import dataclass
 
-import sympy as sp
-
 from ..errors import ParameterError
 from ..units import to_si
 
@@ -87,6 +85,8 @@ class Pedestal:
 
     def terms(self, p, px, py):
         """(T, V, D) with parameter symbols ``p`` (field -> symbol) and coordinates ``px``, ``py`` = (q, q')."""
+        import sympy as sp
+
         (qx, ux), (qy, uy) = px, py
         kinetic = p["mass"] * (ux**2 + uy**2) / 2
         potential = (p["kxx"] * qx**2 + p["kyy"] * qy**2) / 2

@@ -3,7 +3,6 @@
 from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
-from ..symbolic.functions import contact_ratio, hypot, ramp
 from .base import Element, Terms
 from .rotor import check_station
 
@@ -83,6 +82,8 @@ class RubStator(Element):
                 )
 
     def contribute(self, ctx):
+        from ..symbolic.functions import contact_ratio, hypot, ramp
+
         p = ctx.p
         (x, _), (y, _) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         kr, mu, delta = p["contact_stiffness"], p["friction_coefficient"], p["clearance"]
