@@ -70,7 +70,7 @@ def test_a_late_write_failure_keeps_the_data(tmp_path, monkeypatch, capsys):
 
     from rotorkit.cli import run as run_command
 
-    def disk_full(result, outputs, folder, measurement=None):
+    def disk_full(result, outputs, folder, measurement=None, **figure_options):
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(run_command, "write_outputs", disk_full)

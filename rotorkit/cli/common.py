@@ -60,14 +60,20 @@ def progress_printer():
 
 
 def save_figure(fig, path):
-    import io
-
+    """Write ``fig`` as a PNG file (120 dpi), atomically; the path."""
     from ..files import atomic_write_bytes
 
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=120)
-    atomic_write_bytes(path, buf.getvalue())
+    atomic_write_bytes(path, save_figure_bytes(fig))
     return path
+
+
+def save_figure_bytes(fig, dpi=120):
+    """``fig`` as PNG bytes."""
+    import io
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    return buf.getvalue()
 
 
 

@@ -6,7 +6,8 @@ import time
 from pathlib import Path
 
 from ..errors import SimulationError
-from .common import add_scene_arguments, load_preset, positive_float, progress_printer, save_figure
+from .common import add_scene_arguments, load_preset, positive_float, progress_printer
+from .figures import FigureProcess, write_figures
 
 
 def register(sub):
@@ -25,14 +26,24 @@ def register(sub):
     run.add_argument("--check-convergence", action="store_true",
                      help="also run at 100 times tighter tolerances and report how far the two differ "
                           "(about twice the time; see docs/envelope.md)")
+    run.add_argument("--no-figures", action="store_true", help="write the signals and the summary, no figures")
     run.set_defaults(func=main)
 
 
 def main(args):
+    start = time.perf_counter()
+    helper = None if args.no_figures else FigureProcess.start()  # first: imports matplotlib while this one works
+    try:
+        return _run(args, start, helper)
+    finally:
+        if helper is not None:
+            helper.close()
+
+
+def _run(args, start, helper):
     from ..files import check_output_folder
     from ..simulate import simulate
 
-    start = time.perf_counter()
     _compile_integrator_ahead(args)  # first: it has the longest way to go, and the preset's import is its head start
     module, model, _ = load_preset(args)  # reads the scene (a model file names args.preset); derives nothing
     out = check_output_folder(args.out or f"rotorkit-out/{args.preset}")  # before any derivation or run
@@ -69,7 +80,8 @@ def main(args):
     from ..files import write_folder
 
     try:
-        written = write_folder(out, lambda folder: write_outputs(result, outputs, folder, measurement))
+        written = write_folder(out, lambda folder: write_outputs(result, outputs, folder, measurement,
+                                                                 figures=not args.no_figures, helper=helper))
     except OSError as exc:  # late failure (disk full, folder removed): the data is kept
         path = _keep(result, None, "signals.npz")
         print(f"rotorkit: error: {exc}\nthe signals are kept in {path}", file=sys.stderr)
@@ -116,30 +128,22 @@ def _keep(result, out, name):
     return result.save(Path(tempfile.mkdtemp(prefix="rotorkit-rescue-")) / name)
 
 
-def write_outputs(result, outputs, out, measurement=None):
+def write_outputs(result, outputs, out, measurement=None, *, figures=True, helper=None):
     """Write a run's signals, its preset's standard figures (and sensor records) and a summary into the folder ``out``.
 
-    ``main`` calls it through :func:`rotorkit.files.write_folder`, so the files land together.
+    ``main`` calls it through :func:`rotorkit.files.write_folder`, so the files land together. The figures
+    (:func:`rotorkit.cli.figures.write_figures`; none with ``figures=False``) are drawn by ``helper`` (a
+    :class:`~rotorkit.cli.figures.FigureProcess`) while this process writes the signals, or here without one.
     """
     from ..files import atomic_write_text
-    from ..plotting.basic import plot_orbit, plot_signals
 
     out.mkdir(parents=True, exist_ok=True)
+    remote = figures and helper is not None and helper.submit(result, outputs, out, measurement)
     written = [result.save(out / "signals.npz")]
-    station = outputs.get("orbit_station")
-    clearance = result.parameters.get(outputs.get("clearance_parameter", ""), None)
-    if station is not None:
-        ax = plot_orbit(result, station, clearance=clearance)
-        written.append(save_figure(ax.figure, out / f"orbit_station{station}.png"))
-    for key, scale, unit in (("bending", 1e6, "µm"), ("torsion", 1e6, "µrad")):
-        name = outputs.get(key)
-        if name:
-            ax = plot_signals(result, name, scale=scale, unit_label=unit)
-            written.append(save_figure(ax.figure, out / f"{name.replace('-', '_minus_')}.png"))
-    if measurement is not None:
-        from ..plotting.sensors import write_sensor_outputs
-
-        written += write_sensor_outputs(measurement, outputs, out, save_figure)
+    if remote:
+        written += helper.collect()
+    elif figures:
+        written += write_figures(result, outputs, out, measurement)
     summary = {"name": result.name, "stats": {k: v for k, v in result.stats.items()},
                "parameters": result.parameters}
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
