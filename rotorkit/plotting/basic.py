@@ -54,8 +54,9 @@ def plot_orbit(result, station, ax=None, *, units="um", start=None, end=None, cl
     ax = new_axes(ax, figsize=(5.6, 5.0))
     f = _factor(units)
     unit = "µm" if units == "um" else units
-    r = result.window(start if start is not None else result.t[0], end if end is not None else result.t[-1])
-    x, y, t = r[f"x{station}"] * f, r[f"y{station}"] * f, r.t
+    t = result.t
+    keep = (t >= (start if start is not None else t[0])) & (t <= (end if end is not None else t[-1]))
+    x, y, t = result[f"x{station}"][keep] * f, result[f"y{station}"][keep] * f, t[keep]  # (not all states)
     if line_kwargs or t.size < 2:
         ax.plot(x, y, lw=0.4, **line_kwargs)
     else:  # colour shows time, so the path through a manoeuvre can be followed
