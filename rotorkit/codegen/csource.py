@@ -168,7 +168,7 @@ def _function(node, row_length):
         else:
             raise Untranslatable(f"assignment to {ast.unparse(target)}")
     t, y, p, out = params
-    signature = f"void {node.name}(double {t}, const double *{y}, const double *{p}, double *{out})"
+    signature = f"void {node.name}(double {t}, const double *restrict {y}, const double *restrict {p}, double *restrict {out})"
     declarations = [f"    double {', '.join(local[i:i + 16])};" for i in range(0, len(local), 16)]
     return [signature, "{"] + declarations + body + ["}", ""]
 
