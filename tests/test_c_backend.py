@@ -100,7 +100,9 @@ def test_library_is_reused_and_a_tampered_one_rebuilt(tmp_path):
     assert so.stat().st_mtime_ns == stamp  # reused
     data = bytearray(so.read_bytes())
     data[-1] ^= 0xFF
-    so.write_bytes(bytes(data))
+    planted = tmp_path / "planted.so"  # a new file renamed over it: writing into the loaded one would change this
+    planted.write_bytes(bytes(data))   # process's mapped copy under it
+    os.replace(planted, so)
     cbuild.library(tmp_path, "lib", source)
     assert so.read_bytes() != bytes(data)  # rebuilt from the source
     cbuild.library(tmp_path, "lib", source.replace("2.0", "3.0"))  # another source: rebuilt, not the old library
