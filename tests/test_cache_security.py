@@ -281,4 +281,4 @@ def test_the_integration_loop_uses_the_private_cache():
     assert "jit_shared(_rk_loop" in inspect.getsource(rk_numba._build_loop)
     assert "shared_lock(\"rk_loop\")" in inspect.getsource(rk_numba._compiled_loop)
     rk_numba._compiled_loop()
-    assert any((cache.cache_dir() / "shared" / "rk_loop").glob("*/*.nbi"))
+    assert any((cache.cache_dir() / "shared" / rk_numba.cache_name()).glob("*/*.nbi"))

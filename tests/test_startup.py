@@ -60,7 +60,7 @@ def test_a_run_waits_for_the_loop_compiled_in_the_background_and_loads_it(fresh_
     assert process.wait(timeout=600) == 0
     assert (int(hits), int(misses)) == (1, 0)  # loaded from the cache, not compiled a second time
     assert float(value) == pytest.approx(np.exp(-2.0), rel=1e-7)
-    assert cache.shared_is_current("rk_loop", rk_numba.__file__)
+    assert cache.shared_is_current(rk_numba.cache_name(), rk_numba.__file__)
     assert rk_numba.compile_loop_in_background() is None  # compiled already: nothing to do
     assert (fresh_cache / "shared" / "rk_loop.lock").stat().st_mode & 0o777 == 0o600
 
@@ -69,7 +69,7 @@ def test_a_failed_background_compilation_frees_the_lock(fresh_cache, monkeypatch
     monkeypatch.setattr(sys, "executable", "/bin/false")  # the other process exits at once, compiling nothing
     process = rk_numba.compile_loop_in_background()
     assert process is not None and process.wait(timeout=60) != 0
-    assert not cache.shared_is_current("rk_loop", rk_numba.__file__)
+    assert not cache.shared_is_current(rk_numba.cache_name(), rk_numba.__file__)
     with cache.shared_lock("rk_loop", blocking=False) as lock:
         assert lock is not None  # free again: the run compiles the loop itself, as without the other process
 
@@ -83,7 +83,7 @@ def test_nothing_is_started_when_it_cannot_help(fresh_cache, monkeypatch, why):
     else:
         monkeypatch.setattr(rk_numba._compiled_loop, "cache_info", lambda: type("Info", (), {"currsize": 1})())
     assert rk_numba.compile_loop_in_background() is None
-    assert not (fresh_cache / "shared" / "rk_loop").exists()
+    assert not (fresh_cache / "shared" / rk_numba.cache_name()).exists()
 
 
 def test_the_shared_lock_excludes_a_second_holder(fresh_cache):
@@ -137,6 +137,24 @@ def test_a_cold_run_gives_the_numbers_of_a_warm_one(tmp_path, backend):
     assert np.array_equal(cold["t"], warm["t"]) and np.array_equal(cold["y"], warm["y"])
     shared = tmp_path / "cache" / "shared"
     if backend == "numba":
-        assert any((shared / "rk_loop").glob("*/*.nbc"))  # the loop was compiled into it
+        assert any((shared / rk_numba.cache_name()).glob("*/*.nbc"))  # the loop was compiled into it
     else:
-        assert any((shared / "rk_c_loop").glob("*.so")) and not (shared / "rk_loop").exists()
+        assert any((shared / "rk_c_loop").glob("*.so")) and not list(shared.glob("rk_loop*"))
+
+
+def test_the_numba_loop_cache_follows_the_shared_tables(tmp_path, monkeypatch):
+    """numba's cache index checks rk_numba.py's time stamp only; the loop's folder name carries a digest of both
+    rk_numba.py and rk_common.py, whose constants the machine code freezes, so a changed table is never stale."""
+    from rotorkit.engines import rk_common
+
+    before = rk_numba.cache_name()
+    changed = tmp_path / "rk_common.py"
+    changed.write_text(Path(rk_common.__file__).read_text() + "\n# a changed table\n")
+    monkeypatch.setattr(rk_common, "__file__", str(changed))
+    rk_numba.cache_name.cache_clear()
+    try:
+        assert rk_numba.cache_name() != before and rk_numba.cache_name().startswith("rk_loop-")
+    finally:
+        monkeypatch.undo()
+        rk_numba.cache_name.cache_clear()
+    assert rk_numba.cache_name() == before

@@ -614,11 +614,32 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     return status, i_eval, t, nfev, n_accepted, n_rejected, h_abs
 
 
+@functools.lru_cache(maxsize=None)
+def cache_name():
+    """The loop's folder in ``<cache>/shared``: ``rk_loop-<digest of rk_numba.py and rk_common.py>``.
+
+    numba's cache index only checks this file's time stamp, but the loop also
+    freezes rk_common's constants and tables (statuses, controller factors,
+    scipy's coefficients) into its machine code: with both files' contents in
+    the name, changing either compiles the loop again instead of loading a
+    stale one.
+    """
+    import hashlib
+    from pathlib import Path
+
+    from . import rk_common
+
+    digest = hashlib.sha256()
+    for path in (__file__, rk_common.__file__):
+        digest.update(Path(path).read_bytes())
+    return f"rk_loop-{digest.hexdigest()[:12]}"
+
+
 def _build_loop():
     """Compile (or load from numba's on-disk cache) the adaptive loop; the caller holds the cache's lock."""
     from ..codegen.cache import jit_shared
 
-    return jit_shared(_rk_loop, "rk_loop", _LOOP_SIGNATURE, nogil=True, error_model="numpy")
+    return jit_shared(_rk_loop, cache_name(), _LOOP_SIGNATURE, nogil=True, error_model="numpy")
 
 
 @functools.lru_cache(maxsize=None)
@@ -690,7 +711,7 @@ def compile_loop_in_background():
     if os.environ.get(BACKGROUND_VARIABLE, "").strip() == "0" or _compiled_loop.cache_info().currsize:
         return None
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    if cores < 2 or cache.shared_is_current("rk_loop", __file__):
+    if cores < 2 or cache.shared_is_current(cache_name(), __file__):
         return None
     root = str(Path(__file__).resolve().parents[2])  # the folder holding the rotorkit package
     code = f"import sys; sys.path.insert(0, {root!r}); from rotorkit.engines import rk_numba; rk_numba._build_loop()"
