@@ -6,9 +6,11 @@ use these, so there is one source of truth for the numbers and one for the
 contract of ``integrate``. numpy only: importing this module loads neither
 numba nor a C compiler.
 
-The numba loop compiles these numbers in as constants, and numba's on-disk
-cache is keyed to ``rk_numba.py`` only: after changing a number here, touch
-``rk_numba.py`` (or clear the cache) so the numba loop is compiled again.
+The numba loop compiles these numbers in as constants; its cache folder is
+named by a digest of this file and ``rk_numba.py``
+(:func:`rotorkit.engines.rk_numba.cache_name`), so a changed number compiles
+it again. The C loop's source carries them, and its library is signed with
+its source, so it is rebuilt too.
 """
 
 from __future__ import annotations
