@@ -1084,7 +1084,7 @@ def test_with_parameters_valid_values_in_units(scene, data):
 
 
 @settings(max_examples=examples(60), **FAST)
-@given(backend=st.one_of(st.text(max_size=8).filter(lambda b: b not in ("auto", "python", "numba")), st.none(),
+@given(backend=st.one_of(st.text(max_size=8).filter(lambda b: b not in ("auto", "c", "numba", "python")), st.none(),
                          st.integers(), st.lists(st.sampled_from(["numba"]), max_size=1)))
 def test_compile_unknown_backend_is_named(backend):
     with pytest.raises(ParameterError) as info:
