@@ -34,6 +34,11 @@ def a_result():
 def helper(monkeypatch):
     monkeypatch.delenv(figures_module.PROCESS_VARIABLE, raising=False)
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0, 1}, raising=False)
+    import threading
+
+    for thread in threading.enumerate():  # a C loop still being built by an earlier run: not forked mid-build
+        if thread.name.startswith("rotorkit"):
+            thread.join(timeout=120)
     monkeypatch.setattr("threading.active_count", lambda: 1)  # threads other tests left idle do not matter here
     started = []
 
