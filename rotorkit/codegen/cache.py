@@ -359,6 +359,11 @@ def jit(module, name, **options):
     return numba.njit(cache=False, **options)(function)
 
 
+def shared_dir(name):
+    """``<cache>/shared/<name>``, created private (rebuilt if it is not); OSError if it cannot be used."""
+    return _rebuilt_dir(_rebuilt_dir(cache_dir() / "shared") / name)
+
+
 def jit_shared(function, name, signature, **options):
     """numba dispatcher for a function of rotorkit itself (the integration loop), compiled for ``signature``.
 
@@ -370,8 +375,7 @@ def jit_shared(function, name, signature, **options):
     import numba
 
     try:
-        entry = _rebuilt_dir(cache_dir() / "shared")
-        entry = _rebuilt_dir(entry / name)
+        entry = shared_dir(name)
         saved = numba.config.CACHE_DIR
         numba.config.CACHE_DIR = str(entry)  # read when the dispatcher's cache is set up, just below
         try:
@@ -392,14 +396,15 @@ def jit_shared(function, name, signature, **options):
     return dispatcher
 
 
-def _lock_file(name):
-    """An open file ``<cache>/shared/<name>.lock`` (mode 0o600) to ``flock``; None where that is impossible."""
+def _lock_file(name, folder=None):
+    """An open file ``<folder>/<name>.lock`` (default folder ``<cache>/shared``; mode 0o600) to ``flock``; None
+    where that is impossible."""
     try:
         import fcntl  # noqa: F401 - POSIX only
     except ImportError:
         return None
     try:
-        path = _rebuilt_dir(cache_dir() / "shared") / f"{name}.lock"
+        path = Path(folder if folder is not None else _rebuilt_dir(cache_dir() / "shared")) / f"{name}.lock"
         fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o600)
     except OSError:
         return None
@@ -407,8 +412,11 @@ def _lock_file(name):
 
 
 @contextlib.contextmanager
-def shared_lock(name, *, blocking=True):
+def shared_lock(name, *, blocking=True, folder=None):
     """Hold the lock of ``<cache>/shared/<name>`` (an exclusive ``flock``) within the block.
+
+    ``folder``: a private folder to keep the lock file ``<name>.lock`` in
+    instead (a model's entry, for what is built into it).
 
     Every process that loads or compiles rotorkit's shared code into the
     cache takes it, so one process never reads (and, finding them unsigned,
@@ -418,7 +426,7 @@ def shared_lock(name, *, blocking=True):
     folder unusable: then nothing is serialised, as before) or, with
     ``blocking=False``, when another process holds the lock.
     """
-    handle = _lock_file(name)
+    handle = _lock_file(name, folder)
     if handle is None:
         yield None
         return

@@ -12,6 +12,7 @@ A library lives in a private cache folder beside what it was built from::
     <folder>/<name>.c          the source compiled
     <folder>/<name>.so         the library
     <folder>/<name>.sig.json   HMAC-SHA256 (this user's key) of the source and of the library
+    <folder>/<name>.lock       held (flock) while a process checks, builds or loads it
 
 It is loaded only if both signatures verify and the source is the one asked
 for; otherwise it is built again (in a temporary file, renamed into place, so
@@ -135,6 +136,6 @@ def library(folder, name, source):
         secret = cache._secret()
     except OSError:
         secret = os.urandom(32)  # no usable cache: build here, trust only what this process builds
-    with cache.shared_lock(f"c-{hashlib.sha256(str(folder).encode()).hexdigest()[:16]}-{name}"):
+    with cache.shared_lock(name, folder=folder):  # <folder>/<name>.lock: one builder at a time, others then load
         path = _verified(folder, name, source_bytes, secret) or _compile(folder, name, source_bytes, secret)
         return ctypes.CDLL(str(path))

@@ -45,13 +45,6 @@ class CFunction:
         return f"<CFunction {self.name} at {self.address:#x}>"
 
 
-def _source(module):
-    source = getattr(module, "__rotorkit_source__", None)
-    if source is None:
-        raise csource.Untranslatable(f"{module.__name__} carries no generated source")
-    return source
-
-
 def translatable(module):
     """Whether the module's code generation is one the C translation covers (unrolled)."""
     return getattr(module, "CODEGEN", None) == "unrolled" and hasattr(module, "__rotorkit_source__")
@@ -74,10 +67,10 @@ def c_functions(module):
     found = _LOADED.get(module.__name__)
     if found is None:
         if not translatable(module):
-            raise csource.Untranslatable(f"{module.__name__}: code generation {getattr(module, 'CODEGEN', '?')!r}; "
-                                         "the c back end covers unrolled code")
+            raise csource.Untranslatable(f"{module.__name__}: code generation {getattr(module, 'CODEGEN', '?')!r} "
+                                         "(or no generated source); the c back end covers unrolled code")
         names = [n for n in csource.FUNCTIONS if callable(getattr(module, n, None))]
-        text = csource.translate(_source(module), names, row_length=2 * module.N_COORDINATES)
+        text = csource.translate(module.__rotorkit_source__, names, row_length=2 * module.N_COORDINATES)
         library = cbuild.library(getattr(module, "__rotorkit_entry__", None), "model_c", text)
         found = _LOADED[module.__name__] = {n: CFunction(library, n) for n in names}
     return found

@@ -184,7 +184,7 @@ def _folder():
     from ..codegen import cache
 
     try:
-        return cache._rebuilt_dir(cache._rebuilt_dir(cache.cache_dir() / "shared") / _FOLDER)
+        return cache.shared_dir(_FOLDER)
     except OSError as exc:
         cache._warn_once(f"rotorkit cache: the C integration loop cannot be kept in the cache ({exc}); "
                          "building it in a temporary folder", topic=("c-loop", _FOLDER))
