@@ -77,7 +77,6 @@ __all__ = [
     "STATUS_NO_MEMORY",
     "CoreSignatureError",
     "RKSolution",
-    "available",
     "integrate",
     "source",
 ]
@@ -170,13 +169,6 @@ def source():
     if template.count(_MARKER) != 1:
         raise RotorkitError(f"{TEMPLATE} must hold the line {_MARKER} exactly once (a damaged installation)")
     return template.replace(_MARKER, _generated())
-
-
-def available():
-    """True if a C compiler is there to build the loop (see :func:`rotorkit.codegen.cbuild.compiler`)."""
-    from ..codegen import cbuild
-
-    return cbuild.compiler() is not None
 
 
 def _folder():
@@ -286,7 +278,7 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
     CoreSignatureError
         `core` is not an address.
     rotorkit.codegen.cbuild.CompilerError
-        No C compiler to build the loop (see `available`), or it failed.
+        No C compiler to build the loop (:func:`rotorkit.codegen.cbuild.compiler`), or it failed.
 
     Examples
     --------
