@@ -13,6 +13,9 @@ Radau and BDF, which take minutes). Prints ratios measured in this run.
    ``rotorkit run al31f``, with the c and the numba back end: wall and CPU
    time, and the time beyond the simulation
    (``python bench/bench_engines.py --sections 3``).
+4. The model's own cold chain step by step (import and preset, derivation,
+   code generation, building the right-hand side with gcc or numba), each in
+   a fresh process with an empty cache (``--sections 4``).
 """
 
 import argparse
@@ -177,6 +180,48 @@ def bench_start(repeat=3):
     print(f"   load average (1, 5, 15 min): {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
+STEPS = """
+import json, sys, time
+t0 = time.perf_counter()
+import rotorkit as rk
+from rotorkit.system import _generated
+model = rk.preset("al31f")
+t1 = time.perf_counter()
+model.equations()
+t2 = time.perf_counter()
+module = _generated(model, "unrolled", False)
+t3 = time.perf_counter()
+if sys.argv[1] == "c":
+    from rotorkit.codegen.cmodel import c_functions
+    c_functions(module)
+else:
+    model.compile(backend="numba")
+t4 = time.perf_counter()
+print(json.dumps([t1 - t0, t2 - t1, t3 - t2, t4 - t3]))
+"""
+
+
+def bench_cold_steps(repeat=3):
+    """The model's own cold chain, step by step, each run a fresh process with an empty cache (median, range)."""
+    import json
+
+    print(f"\n4. cold steps of the preset's model (fresh process and cache; median (range) of {repeat}):")
+    backends = [b for b in ("c", "numba") if b in rk.available_backends()]
+    with tempfile.TemporaryDirectory() as tmp:
+        for backend in backends:
+            runs = []
+            for k in range(repeat):
+                env = dict(os.environ, ROTORKIT_CACHE_DIR=f"{tmp}/{backend}{k}", ROTORKIT_QUIET="1")
+                out = subprocess.run([sys.executable, "-c", STEPS, backend], env=env, capture_output=True, text=True,
+                                     check=True)
+                runs.append(json.loads(out.stdout.splitlines()[-1]))
+            cells = [f"{statistics.median(r[i] for r in runs):.2f} ({min(r[i] for r in runs):.2f}-"
+                     f"{max(r[i] for r in runs):.2f})" for i in range(4)]
+            print(f"   {backend:6s} import + preset {cells[0]} s, derive {cells[1]} s, generate {cells[2]} s, "
+                  f"build the right-hand side {cells[3]} s")
+    print(f"   load average (1, 5, 15 min): {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser()
     parser.add_argument("--slow", action="store_true", help="also scipy LSODA, Radau, BDF (minutes)")
@@ -189,3 +234,5 @@ if __name__ == "__main__":
         bench_engines(args.slow, t_hand)
     if 3 in sections:
         bench_start(args.repeat)
+    if 4 in sections:
+        bench_cold_steps(args.repeat)
