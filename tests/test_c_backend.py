@@ -94,6 +94,10 @@ def test_library_is_reused_and_a_tampered_one_rebuilt(tmp_path):
     """A signed library is loaded again without compiling; one changed on disk is rebuilt, never loaded."""
     source = "double twice(double x) { return 2.0 * x; }\n"
     cbuild.library(tmp_path, "lib", source)
+    assert (tmp_path / "lib.lock").exists()  # the builders' lock lies beside the library, not in <cache>/shared
+    from rotorkit.codegen import cache
+
+    assert not list((cache.cache_dir() / "shared").glob("*lib*.lock"))
     so = tmp_path / "lib.so"
     stamp = so.stat().st_mtime_ns
     cbuild.library(tmp_path, "lib", source)
