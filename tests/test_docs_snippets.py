@@ -6,6 +6,9 @@ Markdown, as HTML comments that the rendered site does not show:
 
 - ``<!-- snippet-setup: rotorkit run al31f --t-end 0.5 -->``: a command the page's text tells the reader
   to have run first; run (as ``python -m rotorkit.cli ...``) in the page's folder before its blocks.
+- ``<!-- snippet-notebook: examples/NAME.ipynb -->``: the page's blocks run as that notebook (made from the
+  page by ``docs/hooks/notebook.py``; ``tests/test_examples.py`` checks it is unchanged and executes it),
+  not a second time here.
 - ``<!-- snippet-skip: REASON -->`` on the line before a block: the block needs what CI cannot have (a
   batch cluster); the reason is required and the block is still compiled, so it cannot rot into
   invalid Python.
@@ -29,6 +32,7 @@ PAGES = sorted((ROOT / "docs").glob("*.md")) + [ROOT / "README.md"]
 _BLOCK = re.compile(r"^```python\n(.*?)^```", re.S | re.M)
 _SETUP = re.compile(r"^<!-- snippet-setup: (.+?) -->$", re.M)
 _SKIP = re.compile(r"<!-- snippet-skip: (.+?) -->\s*$")
+_NOTEBOOK = re.compile(r"^<!-- snippet-notebook: (\S+) -->$", re.M)
 _INCLUDE = re.compile(r'^--8<-- "([^":]+):(\w+)"$', re.M)
 
 
@@ -53,7 +57,13 @@ def page_snippets(page):
 
 
 def _pages_with_code():
-    return [p for p in PAGES if page_snippets(p)[1]]
+    return [p for p in PAGES if page_snippets(p)[1] and not _NOTEBOOK.search(p.read_text())]
+
+
+def test_notebook_pages_have_their_notebook():
+    for page in PAGES:
+        for name in _NOTEBOOK.findall(page.read_text()):
+            assert (ROOT / name).is_file(), f"{page.name}: {name} does not exist"
 
 
 def _env():

@@ -73,3 +73,38 @@ def test_every_example_is_run_by_a_test():
 def test_rig_figures_example_clearance_check(tmp_path):
     out = run(EXAMPLES / "rig_figures.py", "--clearance", cwd=tmp_path)
     assert out.count("largest radial displacement") == 3 and "clearance of the preset: 0.15 mm" in out
+
+
+def _tutorial_notebook_text():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("docs_notebook", EXAMPLES.parent / "docs" / "hooks" / "notebook.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.notebook_text(EXAMPLES.parent / "docs" / "tutorial.md")
+
+
+def test_tutorial_notebook_is_the_docs_page():
+    """examples/tutorial.ipynb is docs/tutorial.md's code, unchanged (remake: python docs/hooks/notebook.py
+    docs/tutorial.md examples/tutorial.ipynb)."""
+    assert (EXAMPLES / "tutorial.ipynb").read_text() == _tutorial_notebook_text()
+
+
+@pytest.mark.slow
+def test_tutorial_notebook_executes(tmp_path, monkeypatch):
+    """The tutorial, from geometry to the model file, runs top to bottom in a fresh kernel."""
+    import os
+
+    import nbclient
+    import nbformat
+
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(EXAMPLES.parent), os.environ.get("PYTHONPATH", "")]))
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = nbformat.read(EXAMPLES / "tutorial.ipynb", as_version=4)
+    nbclient.NotebookClient(nb, timeout=900, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    errors = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"]
+    assert not errors, errors
+    for name in ("mode1.png", "campbell.png", "critical_speed_map.png", "bode_x8.png"):
+        assert (tmp_path / name).stat().st_size > 10_000, name
+    assert (tmp_path / "compressor.toml").stat().st_size > 0
