@@ -17,7 +17,7 @@ from .simulate import simulate  # eager: the function must win over the submodul
 #: ``import rotorkit`` stays cheap (numpy only): sympy, numba, scipy, pint and matplotlib load when used.
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
-                     "ShaftSegment"), "elements"),
+                     "ShaftSegment", "SqueezeFilmDamper", "JournalBearing"), "elements"),
     "Model": "model",
     "load_model": "modelfile",
     "preset": "presets",
@@ -56,6 +56,8 @@ __all__ = [
     "ElasticSupport",
     "BallBearing",
     "RubStator",
+    "SqueezeFilmDamper",
+    "JournalBearing",
     "Maneuver",
     "Model",
     "load_model",
