@@ -57,6 +57,10 @@ never crossing a branch), and the arc integrals are its derivatives,
     Fx = -mu R L^3 (a G11 - b G12),   Fy = -mu R L^3 (b G11 + a G12)
 
 At ``w = 0`` the force is zero (``p = q = 0`` there by :func:`safe_div`).
+The journal must stay inside the bore: ``D`` is floored at ``1e-12 c^2``
+(:data:`FILM_FLOOR`), so that an integrator's trial step beyond the wall
+meets a finite, enormous force (and is rejected) instead of a square root
+of a negative number.
 The pi-film force is smooth except where the squeeze velocity passes
 through zero (the arc flips by pi): declared as the switches
 ``x a + y b = e e'`` (radial squeeze) and ``x b - y a = e^2 (phi' - Omega/2)``
@@ -83,6 +87,8 @@ __all__ = ["SqueezeFilmDamper", "ShortBearingWarning", "short_film_forces", "CAV
 
 #: the cavitation conditions of the film: the whole film, or its positive-pressure half (Gumbel)
 CAVITATION_MODELS = ("pi", "full")
+#: the film thickness floor: ``D = c^2 - x^2 - y^2`` is taken as at least ``FILM_FLOOR c^2`` (eps < 1 - 5e-13)
+FILM_FLOOR = 1e-12
 #: the largest land length over diameter L / (2 R) for which the short-bearing theory is taken as valid
 SHORT_BEARING_LIMIT = 0.5
 
@@ -116,10 +122,11 @@ def short_film_forces(x, y, a, b, *, clearance, viscosity, radius, length, cavit
     """
     import sympy as sp
 
-    from ..symbolic.functions import hypot, safe_div
+    from ..symbolic.functions import hypot, ramp, safe_div
 
     c, k = clearance, viscosity * radius * length**3
-    D = c**2 - x**2 - y**2
+    floor = FILM_FLOOR * c**2  # beyond the wall (a rejected trial step) the force stays finite and huge
+    D = ramp(c**2 - x**2 - y**2 - floor) + floor
     s = sp.sqrt(D)
     if cavitation == "full":
         d5 = D**2 * s
