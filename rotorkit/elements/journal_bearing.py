@@ -122,7 +122,8 @@ def _film_jacobian(forces, symbols, point, steps):
     import sympy as sp
 
     complex_functions = {"safe_div": lambda u, v: u / v if v != 0 else 0.0,
-                         "hypot": lambda u, v: cmath.sqrt(u * u + v * v), "sqrt": cmath.sqrt, "atan": cmath.atan}
+                         "hypot": lambda u, v: cmath.sqrt(u * u + v * v), "sqrt": cmath.sqrt, "atan": cmath.atan,
+                         "ramp": lambda u: u if u.real > 0 else 0j}
     f = sp.lambdify(symbols, list(forces), modules=[complex_functions, "math"])
     J = np.empty((len(forces), len(symbols)))
     for j, h in enumerate(steps):
