@@ -270,3 +270,22 @@ def test_bistable_response_of_an_sfd_supported_rotor():
     # steady circular orbits, each on its closed-form branch
     assert np.ptp(up) < 0.01 and abs(up.mean() - large) < 0.01
     assert np.ptp(down) < 0.01 and abs(down.mean() - small) < 0.01
+
+
+@pytest.mark.slow
+def test_sfd_runup_example(tmp_path):
+    """The example runs; the damper passes the critical speed with a smaller peak than its centred linearisation."""
+    import re
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "examples" / "sfd_runup.py"
+    proc = subprocess.run([sys.executable, str(script), "--plot", str(tmp_path / "runup.png")], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    peaks = dict(re.findall(r"^(.+?): peak whirl radius ([\d.]+) um", proc.stdout, flags=re.M))
+    ratios = [float(r) for r in re.findall(r"= ([\d.]+) x critical", proc.stdout)]
+    assert float(peaks["squeeze-film damper"]) < 0.8 * float(peaks["linear damper (centred coefficient)"])
+    assert len(ratios) == 2 and all(1.0 < r < 1.3 for r in ratios)
+    assert (tmp_path / "runup.png").stat().st_size > 10_000
