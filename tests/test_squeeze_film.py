@@ -275,14 +275,18 @@ def test_bistable_response_of_an_sfd_supported_rotor():
 @pytest.mark.slow
 def test_sfd_runup_example(tmp_path):
     """The example runs; the damper passes the critical speed with a smaller peak than its centred linearisation."""
+    import os
     import re
     import subprocess
     import sys
     from pathlib import Path
 
-    script = Path(__file__).resolve().parents[1] / "examples" / "sfd_runup.py"
-    proc = subprocess.run([sys.executable, str(script), "--plot", str(tmp_path / "runup.png")], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=600)
+    root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")]),
+           "MPLBACKEND": "Agg"}
+    proc = subprocess.run([sys.executable, str(root / "examples" / "sfd_runup.py"), "--plot",
+                           str(tmp_path / "runup.png")], cwd=tmp_path, capture_output=True, text=True, timeout=600,
+                          env=env)
     assert proc.returncode == 0, proc.stderr
     peaks = dict(re.findall(r"^(.+?): peak whirl radius ([\d.]+) um", proc.stdout, flags=re.M))
     ratios = [float(r) for r in re.findall(r"= ([\d.]+) x critical", proc.stdout)]
