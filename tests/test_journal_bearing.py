@@ -135,6 +135,15 @@ def test_full_film_equilibrium_is_perpendicular_to_the_load():
     assert short_bearing_eccentricity(modified_sommerfeld(1000.0), "full") == pytest.approx((eps, math.pi / 2))
 
 
+def test_static_deflection_reports_the_bearing_reaction():
+    """The bearing grounds the journal: the static analysis finds it carrying the weight."""
+    from rotorkit.analysis.static import static_deflection
+
+    result = static_deflection(system().with_parameters(R_speed=1000.0))
+    reaction = result.reactions["journal1"]
+    assert reaction["y1"] == pytest.approx(W, rel=1e-9) and abs(reaction["x1"]) < 1e-9 * W
+
+
 def test_speed_comes_from_the_model():
     """A bearing on a geared rotor (speed ratio) sees that rotor's speed."""
     direct = Model([Rotor(name="A", stations=(1,), speed=1000.0), LumpedMass(station=1, mass=M), bearing()])
