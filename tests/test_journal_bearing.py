@@ -198,6 +198,17 @@ def test_whip_onset_from_the_linear_stability_analysis_is_the_classical_threshol
     assert 0.4 < whirl_ratio < 0.55  # the half-speed whirl
 
 
+def test_campbell_stability_analysis_finds_the_whip_onset():
+    """The analyses' own entry: campbell(..., relinearize=True) reports the onset at the classical threshold."""
+    from rotorkit.analysis.modes import campbell
+
+    threshold = classical_whip_threshold()
+    result = campbell(system(), np.linspace(0.6, 1.4, 5) * threshold, n_modes=2, relinearize=True)
+    (onset,) = result.onsets
+    assert onset.becomes == "unstable" and onset.whirl == "forward"
+    assert onset.speed == pytest.approx(threshold, rel=1e-6)
+
+
 @pytest.mark.parametrize("factor, grows", [(0.85, False), (1.15, True)])
 def test_time_run_on_both_sides_of_the_whip_threshold(factor, grows):
     """Nonlinear time runs from a nudged equilibrium: the whirl dies out below the threshold, grows above."""
