@@ -260,3 +260,28 @@ def test_long_bearing_warns_with_its_ratio_and_units_are_read():
     op = jb.operating_point(load=f"{W} N", speed=f"{1000.0 * 60 / (2 * math.pi)} rpm")
     assert op.speed == pytest.approx(1000.0, rel=1e-12)
     assert jb.label() == "journal1" and jb.grounds() == ((1, "x"), (1, "y"))
+
+
+@pytest.mark.slow
+def test_journal_whip_example(tmp_path):
+    """The example runs: the whirl dies out below the threshold and grows into whip near half speed above it."""
+    import os
+    import re
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")]),
+           "MPLBACKEND": "Agg"}
+    proc = subprocess.run([sys.executable, str(root / "examples" / "journal_whip.py"), "--plot",
+                           str(tmp_path / "whip.png")], cwd=tmp_path, capture_output=True, text=True, timeout=600,
+                          env=env)
+    assert proc.returncode == 0, proc.stderr
+    threshold = float(re.search(r"analysis: ([\d.]+) rad/s", proc.stdout).group(1))
+    assert threshold == pytest.approx(classical_whip_threshold(), rel=1e-3)
+    swings = [float(v) for v in re.findall(r"x swings by \+-([\d.e+-]+) um", proc.stdout)]
+    assert len(swings) == 4 and swings[-1] > 50 * swings[1] and swings[-1] > 30.0
+    ratio = float(re.search(r"= ([\d.]+) x speed\n", proc.stdout.split("last")[1]).group(1))
+    assert 0.4 < ratio < 0.55
+    assert (tmp_path / "whip.png").stat().st_size > 10_000
