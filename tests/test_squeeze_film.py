@@ -314,3 +314,19 @@ def test_c_back_end_computes_the_same_film_forces():
         np.testing.assert_allclose(c.rhs(0.1, y), py.rhs(0.1, y), rtol=1e-12, atol=1e-9)
     rest = np.zeros(8)
     np.testing.assert_allclose(c.rhs(0.0, rest), py.rhs(0.0, rest), atol=1e-12)
+
+
+def test_a_damper_without_cage_holds_nothing_statically():
+    """The film has no stiffness at rest: without a centring spring another element must hold the rotor."""
+    from rotorkit import ElasticSupport
+    from rotorkit.errors import TopologyError
+
+    bare = SqueezeFilmDamper(station=1, radius=R, length=L, clearance=C, viscosity=MU)
+    assert bare.grounds() == () and damper().grounds() == ((1, "x"), (1, "y"))
+    with pytest.raises(TopologyError, match="no support"):
+        Model([Rotor(name="R", stations=(1,), speed=0.0), LumpedMass(station=1, mass=MASS), bare])
+    held = Model([Rotor(name="R", stations=(1,), speed=0.0), LumpedMass(station=1, mass=MASS), bare,
+                  ElasticSupport(station=1, stiffness=KS)]).compile(backend="python")
+    state = np.array([3e-5, -2e-5, 0.01, 0.02])
+    np.testing.assert_allclose(MASS * held.rhs(0.0, state)[2:] + KS * state[:2], film_force("pi", *state),
+                               rtol=1e-12)
