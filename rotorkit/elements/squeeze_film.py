@@ -166,8 +166,8 @@ def check_film(owner, element):
     if ratio > SHORT_BEARING_LIMIT:
         warnings.warn(
             f"{owner}: L/D = length / (2 radius) = {ratio:.3g} > {SHORT_BEARING_LIMIT}: the short-bearing "
-            "(Ocvirk) theory overestimates the film forces of so long a land (by about 2x at L/D = 1); expected "
-            f"L/D <= {SHORT_BEARING_LIMIT}", ShortBearingWarning, stacklevel=4)
+            "(Ocvirk) theory, which neglects the circumferential pressure flow, overestimates the film forces of so "
+            f"long a land; expected L/D <= {SHORT_BEARING_LIMIT}", ShortBearingWarning, stacklevel=5)
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
