@@ -330,3 +330,16 @@ def test_a_damper_without_cage_holds_nothing_statically():
     state = np.array([3e-5, -2e-5, 0.01, 0.02])
     np.testing.assert_allclose(MASS * held.rhs(0.0, state)[2:] + KS * state[:2], film_force("pi", *state),
                                rtol=1e-12)
+
+
+@pytest.mark.parametrize("cavitation", ["pi", "full"])
+def test_generated_jacobian_matches_finite_differences(cavitation):
+    """The symbolic derivatives of the guarded pieces (safe_div, hypot, ramp) are those of the force."""
+    s = system(cavitation)
+    for state in STATES[:3]:
+        y = np.array([state[0] * C, state[1] * C, state[2], state[3]])
+        J = s.jacobian(0.0, y)
+        steps = np.array([1e-9, 1e-9, 1e-6, 1e-6])
+        fd = np.column_stack([(s.rhs(0.0, y + h * e) - s.rhs(0.0, y - h * e)) / (2 * h)
+                              for h, e in zip(steps, np.eye(4))])
+        np.testing.assert_allclose(J, fd, rtol=1e-6, atol=1e-6 * np.abs(fd).max())
