@@ -18,7 +18,7 @@ from .simulate import simulate  # eager: the function must win over the submodul
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment", "BeamSegment", "Material", "LinearBearing", "Pedestal", "SpeedProfile",
-                     "BaseRotation"), "elements"),
+                     "BaseRotation", "SqueezeFilmDamper", "JournalBearing"), "elements"),
     # the linear analyses a user starting from a Model reaches for first
     "campbell": "analysis.campbell",
     "Unbalance": "analysis.unbalance",
@@ -72,6 +72,8 @@ __all__ = [
     "BaseRotation",
     "BallBearing",
     "RubStator",
+    "SqueezeFilmDamper",
+    "JournalBearing",
     "Maneuver",
     "Model",
     "load_model",

@@ -47,6 +47,9 @@ def sink_model():
         rk.elements.LinearBearing(station=4, kxx=1e5, kyy=1e5, ktxx=2e3, ktyy=3e3, ktxy=100.0, ctyy=0.5),
         rk.elements.LinearBearing(station=3, other_station="h", kxx=1e5, kyy=1e5, cxy=3.0, cyx=-3.0),
         rk.elements.BaseRotation(rate_y=0.5, center_x=-800.0, axial_positions={1: 0.1, 2: 0.4}),
+        rk.SqueezeFilmDamper(station=4, radius=0.05, length=0.015, clearance=2e-4, viscosity=0.01,
+                             centring_stiffness=1e6, centring_damping=10.0, offset_y=-1e-5),
+        rk.JournalBearing(station=1, radius=0.025, length=0.02, clearance=5e-5, viscosity=0.02, cavitation="full"),
     ], name="sink")
 
 

@@ -4,6 +4,7 @@ from .base import Element, Terms
 from .base_motion import BaseRotation
 from .beam import BeamSegment
 from .bearing import BallBearing
+from .journal_bearing import JournalBearing
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, LumpedMass
@@ -13,6 +14,7 @@ from .rotor import Rotor
 from .rub import RubStator
 from .shaft import ShaftSegment
 from .speed import SpeedProfile
+from .squeeze_film import SqueezeFilmDamper
 from .support import ElasticSupport
 
 __all__ = [
@@ -32,4 +34,6 @@ __all__ = [
     "LinearBearing",
     "Pedestal",
     "BaseRotation",
+    "SqueezeFilmDamper",
+    "JournalBearing",
 ]
