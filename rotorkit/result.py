@@ -48,6 +48,15 @@ class Result:
         for arr in (self.t, self.y):
             arr.setflags(write=False)
 
+    def __repr__(self):
+        """One line a reader can take in: model, span, samples, signals (shortened), method and outcome."""
+        names = self.state_names
+        shown = ", ".join(names[:6]) + (f", ... ({len(names)} signals)" if len(names) > 6 else "")
+        span = f"t = {self.t[0]:g} .. {self.t[-1]:g} s, " if self.t.size else ""
+        stats = self.stats
+        run = ", ".join(f"{k}={stats[k]}" for k in ("method", "backend", "message") if k in stats)
+        return f"Result({self.name!r}: {span}{self.t.size} samples; {shown}{'; ' + run if run else ''})"
+
     def _repr_html_(self):
         """Jupyter display: span, samples, signals and run statistics."""
         from .display import result_html

@@ -63,3 +63,17 @@ def test_load_refuses_state_names_that_are_not_text(tmp_path):
     np.savez(path, t=np.zeros(2), y=np.zeros((1, 2)), meta=np.array(json.dumps(meta)))
     with pytest.raises(rk.ParameterError, match=r"state names \[None\] are not all text"):
         rk.load_result(path)
+
+
+def test_repr_is_a_summary_not_the_samples():
+    """A notebook or a print shows one line, whatever the size (issue 24: the tutorial's print(run))."""
+    import numpy as np
+
+    from rotorkit.result import Result
+
+    r = Result(t=np.linspace(0.0, 2.0, 100_001), y=np.zeros((160, 100_001)),
+               state_names=tuple(f"x{i}" for i in range(160)), stats={"method": "DOP853", "message": "success"},
+               name="big")
+    text = repr(r)
+    assert "\n" not in text and len(text) < 200
+    assert "'big'" in text and "100001 samples" in text and "160 signals" in text and "t = 0 .. 2 s" in text
