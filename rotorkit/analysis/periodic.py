@@ -1,0 +1,317 @@
+"""Periodic response of a nonlinear rotor: harmonic balance, continuation, Floquet stability, bifurcations.
+
+:func:`periodic_response` follows the periodic steady state of a model with
+rub, Hertzian bearings or other local nonlinearities over a range of its
+speed; :func:`continuation` does the same in any other parameter
+(clearance, friction coefficient, unbalance, a bearing coefficient). Both
+return a :class:`~rotorkit.periodic.branch.Branch` with the Fourier
+coefficients, the stability (Floquet multipliers), bifurcations and error
+estimates of each point. The method and its conventions are in
+:mod:`rotorkit.periodic` and on the documentation page *Periodic response*.
+
+Examples
+--------
+>>> from rotorkit import Disk, ElasticSupport, Model, Rotor
+>>> model = Model([Rotor(name="R", stations=(1,), speed=50.0),
+...                Disk(station=1, mass=2.0, radius=0.1, eccentricity=1e-5, torsion=False),
+...                ElasticSupport(station=1, stiffness=2e4, damping=4.0)])
+>>> branch = periodic_response(model, speeds=(50.0, 150.0), harmonics=1, backend="python")
+>>> bool(branch.stable.all()), round(float(branch.max_radius(1).max() / 1e-5), 2)   # peak e / (2 zeta)
+(True, 50.0)
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..periodic.errors import ConvergenceError, NoOscillatingInput
+
+__all__ = ["periodic_response", "continuation", "periodic_solution", "ConvergenceError", "NoOscillatingInput"]
+
+#: truncation-error grid: this many times the AFT samples
+ERROR_GRID_FACTOR = 4
+STABILITY_METHODS = ("hill", "monodromy", "none")
+
+
+def _system(model_or_system, backend):
+    if hasattr(model_or_system, "compile") and hasattr(model_or_system, "equations"):
+        return model_or_system.compile(backend=backend)
+    if not (hasattr(model_or_system, "rhs") and hasattr(model_or_system, "jacobian")):
+        raise TypeError(f"expected a rotorkit Model or System, got {type(model_or_system).__name__}")
+    return model_or_system
+
+
+def _speed_parameter(system, speed_parameter):
+    model = system.model
+    available = [f"{name}_speed" for name, r in model.rotors.items() if r.speed is not None and r.profile is None]
+    if speed_parameter is None:
+        if not available:
+            raise ParameterError(f"{system.name!r} has no rotor with a constant speed of its own: the periodic "
+                                 "response needs one (freeze a speed profile with "
+                                 "rotorkit.analysis.linear_matrices.frozen_speed_model)")
+        return available[0]
+    if speed_parameter not in available:
+        raise ParameterError(f"speed_parameter={speed_parameter!r} is not a constant rotor speed: expected one of "
+                             f"{available}")
+    return speed_parameter
+
+
+def _check_parameter(system, name):
+    if not isinstance(name, str) or name not in system.parameters:
+        import difflib
+
+        near = difflib.get_close_matches(str(name), list(system.parameters), n=3)
+        hint = f" (did you mean {', '.join(near)}?)" if near else ""
+        raise ParameterError(f"parameter {name!r} is unknown{hint}: expected one of "
+                             f"{', '.join(sorted(system.parameters))}")
+    return name
+
+
+def _range(system, name, values, what):
+    from ..units import to_si
+
+    unit = system.model.parameter_units.get(name, "")
+    try:
+        start, stop = values
+    except (TypeError, ValueError):
+        raise ParameterError(f"{what}={values!r} is invalid: expected (start, stop)") from None
+    start, stop = (to_si(v, unit, f"{what} of {name}") for v in (start, stop))
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise ParameterError(f"{what}={values!r} is invalid: expected finite values")
+    if start == stop:
+        raise ParameterError(f"{what}=({start:g}, {stop:g}) has zero width: expected start != stop")
+    for v in (start, stop):
+        system.with_parameters(**{name: v})  # the element checks its value (sign, range)
+    return start, stop
+
+
+def _count(value, name, low):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise ParameterError(f"{name}={value!r} is invalid: expected an integer >= {low}")
+    return int(value)
+
+
+def _positive(value, name):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
+        raise ParameterError(f"{name}={value!r} is invalid: expected a positive number")
+    return float(value)
+
+
+def _linear_scale(problem, start, stop):
+    """Largest amplitude of the response with the nonlinear forces as at rest, over 33 parameter values."""
+    hb = problem.hb
+    biggest = 0.0
+    z = np.zeros(hb.size)
+    for lam in np.linspace(start, stop, 33):
+        frame = problem.frame(lam)
+        R, J = hb.residual(z, frame)
+        try:
+            biggest = max(biggest, float(np.max(np.abs(np.linalg.solve(J, -R)))))
+        except np.linalg.LinAlgError:
+            continue
+    return biggest if biggest > 0 else 1.0
+
+
+def continuation(model_or_system, parameter, values, *, speed_parameter=None, harmonics=5, subharmonic=1,
+                 samples=None, start=None, stability="hill", tol=None, step=0.02, min_step=1e-6, max_step=0.1,
+                 max_points=500, amplitude_scale=None, backend="auto", progress=None):
+    """Follow the periodic steady state of a model as ``parameter`` goes from ``values[0]`` to ``values[1]``.
+
+    Parameters
+    ----------
+    model_or_system : rotorkit.Model or rotorkit.System
+        A model is compiled (``backend``). Every rotor speed is constant.
+    parameter : str
+        Any parameter of the model (``R_speed``, ``rub1_clearance``, ``disk1_eccentricity``, ...).
+    values : (start, stop)
+        Range of ``parameter`` (SI floats, pint quantities or strings with units); the branch starts at
+        ``start`` and may turn back at folds; it ends when it leaves the range.
+    speed_parameter : str, optional
+        The rotor speed that sets the base frequency ``w = Omega / nu`` (default: the first rotor's).
+    harmonics : int
+        ``H >= 1`` harmonics of ``w``.
+    subharmonic : int
+        ``nu >= 1``: 1 for synchronous solutions, 2, 3, ... for sub-harmonic ones.
+    samples : int, optional
+        AFT samples per period, ``>= 2H + 1``; default the power of two ``>= 4 (H + 1)``, ``>= 8 (H + 1)``
+        with contacts.
+    start : array_like, shape (2H + 1, n), optional
+        Fourier coefficients to start Newton from at ``values[0]`` (default zero: the linear response).
+    stability : {"hill", "monodromy", "none"}
+        How the Floquet multipliers are computed (:mod:`rotorkit.periodic.stability`).
+    tol : float, optional
+        Newton tolerance on ``max |R|`` (N) relative to the largest oscillating force at rest (default 1e-10).
+    step, min_step, max_step : float
+        Arclength steps in scaled units (amplitudes over ``amplitude_scale``, the parameter over the range).
+    max_points : int
+        Point budget.
+    amplitude_scale : float, optional
+        Typical amplitude (m, rad); default the largest amplitude of the response with the nonlinear forces
+        frozen at rest over the range.
+    backend : str
+        For a model: how to compile it (``"c"`` is the fast path).
+    progress : callable, optional
+        ``progress(count, value)`` after each point.
+
+    Returns
+    -------
+    rotorkit.periodic.branch.Branch
+
+    Raises
+    ------
+    ParameterError
+        An unknown parameter, a range of zero width, ``H < 1``, bad options.
+    NoOscillatingInput
+        Nothing periodic drives the model (no unbalance, no periodic force).
+    ConvergenceError
+        Newton does not converge at ``values[0]``.
+    """
+    from ..periodic.continuation import ContinuationOptions, ContinuationProblem, continue_branch
+    from ..periodic.hb import DEFAULT_TOLERANCE, HarmonicBalance, newton
+
+    system = _system(model_or_system, backend)
+    speed_parameter = _speed_parameter(system, speed_parameter)
+    parameter = _check_parameter(system, parameter)
+    harmonics = _count(harmonics, "harmonics", 1)
+    subharmonic = _count(subharmonic, "subharmonic", 1)
+    lo, hi = _range(system, parameter, values, "values")
+    if stability not in STABILITY_METHODS:
+        raise ParameterError(f"stability={stability!r} is unknown: expected one of {STABILITY_METHODS}")
+    tol = DEFAULT_TOLERANCE if tol is None else _positive(tol, "tol")
+    options = ContinuationOptions(step=_positive(step, "step"), min_step=_positive(min_step, "min_step"),
+                                  max_step=_positive(max_step, "max_step"),
+                                  max_points=_count(max_points, "max_points", 2), tol=tol)
+    hb = HarmonicBalance(system, speed_parameter=speed_parameter, harmonics=harmonics, subharmonic=subharmonic,
+                         samples=samples)
+    problem = ContinuationProblem(hb, parameter)
+    frame = problem.frame(lo)
+    z0 = np.zeros(hb.size) if start is None else _start(start, hb)
+    try:
+        z0 = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
+                    max_iterations=50, what=f"the solution at {parameter}={lo:g}")[0]
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{exc}; give start=... coefficients near a solution, or start the range where the "
+                               "response is nearly linear", residual=exc.residual, parameter=lo) from None
+    scale = _linear_scale(problem, lo, hi) if amplitude_scale is None else _positive(amplitude_scale,
+                                                                                      "amplitude_scale")
+    points = continue_branch(problem, z0, lo, (lo, hi), z_scale=scale, options=options, progress=progress)
+    return _branch(problem, points, stability)
+
+
+def _start(start, hb):
+    try:
+        z = np.array(start, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("start is invalid: expected Fourier coefficients of shape (2H + 1, n)") from None
+    if z.shape != (2 * hb.harmonics + 1, hb.n):
+        raise ParameterError(f"start has shape {z.shape}: expected ({2 * hb.harmonics + 1}, {hb.n})")
+    return z.ravel()
+
+
+def periodic_response(model_or_system, *, speeds, speed_parameter=None, harmonics=5, **options):
+    """The periodic response of a rotor over a range of its speed: :func:`continuation` in ``speed_parameter``.
+
+    Parameters
+    ----------
+    model_or_system : rotorkit.Model or rotorkit.System
+    speeds : (start, stop)
+        Speed range (rad/s, or quantities such as ``"3000 rpm"``).
+    speed_parameter : str, optional
+        ``<rotor>_speed`` (default: the first rotor's).
+    harmonics : int
+        ``H >= 1``.
+    **options
+        As for :func:`continuation` (``subharmonic``, ``stability``, ``samples``, ``tol``, ``max_points``, ...).
+
+    Returns
+    -------
+    rotorkit.periodic.branch.Branch
+    """
+    system = _system(model_or_system, options.pop("backend", "auto"))
+    speed_parameter = _speed_parameter(system, speed_parameter)
+    return continuation(system, speed_parameter, speeds, speed_parameter=speed_parameter, harmonics=harmonics,
+                        **options)
+
+
+def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, subharmonic=1, samples=None,
+                      start=None, stability="hill", tol=None, backend="auto", **values):
+    """One periodic solution at the model's parameters (``values``: some changed, SI), as a one-point Branch.
+
+    Raises
+    ------
+    ConvergenceError
+        If Newton does not converge from ``start`` (default: zero, i.e. the linear response).
+    """
+    from ..periodic.continuation import BranchPoints, ContinuationProblem
+    from ..periodic.hb import DEFAULT_TOLERANCE, HarmonicBalance, newton
+
+    system = _system(model_or_system, backend)
+    if values:
+        for name in values:
+            _check_parameter(system, name)
+        system = system.with_parameters(**values)
+    speed_parameter = _speed_parameter(system, speed_parameter)
+    if stability not in STABILITY_METHODS:
+        raise ParameterError(f"stability={stability!r} is unknown: expected one of {STABILITY_METHODS}")
+    tol = DEFAULT_TOLERANCE if tol is None else _positive(tol, "tol")
+    hb = HarmonicBalance(system, speed_parameter=speed_parameter, harmonics=_count(harmonics, "harmonics", 1),
+                         subharmonic=_count(subharmonic, "subharmonic", 1), samples=samples)
+    problem = ContinuationProblem(hb, speed_parameter)
+    lam = system.parameters[speed_parameter]
+    frame = problem.frame(lam)
+    z0 = np.zeros(hb.size) if start is None else _start(start, hb)
+    z = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
+               max_iterations=50)[0]
+    points = BranchPoints(parameter=[lam], coefficients=[z], tangents=[np.zeros(hb.size + 1)], residuals=[0.0],
+                          reason="single solution")
+    return _branch(problem, points, stability)
+
+
+def _branch(problem, points, stability):
+    """The :class:`Branch` of the raw continuation output: error estimates, stability and bifurcations."""
+    from ..periodic.branch import Bifurcation, Branch
+    from ..periodic.stability import classify_crossing, hill_multipliers, is_stable, monodromy_multipliers
+
+    hb = problem.hb
+    n, H = hb.n, hb.harmonics
+    lam = np.array(points.parameter, dtype=float)
+    Z = np.array(points.coefficients).reshape(len(lam), 2 * H + 1, n)
+    omega, errors, shares, multipliers = [], [], [], []
+    for value, z in zip(lam, Z):
+        frame = problem.frame(value)
+        omega.append(frame.omega)
+        r = hb.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
+        errors.append(float(np.max(np.abs(r))) / frame.scale)
+        amplitudes = np.hypot(z[1::2], z[2::2])
+        top = float(np.max(amplitudes)) if amplitudes.size else 0.0
+        shares.append(float(np.max(amplitudes[-1])) / top if top > 0 else 0.0)
+        if stability == "hill":
+            multipliers.append(hill_multipliers(hb, z.ravel(), frame))
+        elif stability == "monodromy":
+            multipliers.append(monodromy_multipliers(hb, z.ravel(), frame)[0])
+    mu = np.array(multipliers) if multipliers else None
+    stable = np.array([is_stable(m) for m in mu]) if mu is not None else None
+    bifurcations = []
+    tangents = np.array(points.tangents)
+    for i in range(len(lam) - 1):
+        if tangents[i, -1] * tangents[i + 1, -1] < 0:
+            extreme = max if tangents[i, -1] > 0 else min  # the turning point: the farther of the two
+            bifurcations.append(Bifurcation("fold", i, float(extreme(lam[i], lam[i + 1]))))
+        if mu is not None:
+            kind = classify_crossing(mu[i], mu[i + 1])
+            if kind in ("period doubling", "Neimark-Sacker"):
+                a = np.max(np.abs(mu[i])) - 1.0
+                b = np.max(np.abs(mu[i + 1])) - 1.0
+                w = a / (a - b) if a != b else 0.5
+                bifurcations.append(Bifurcation(kind, i, float(lam[i] + w * (lam[i + 1] - lam[i]))))
+    return Branch(
+        parameter_name=problem.parameter, parameter=lam, coefficients=Z, omega=np.array(omega),
+        coordinate_names=hb.coordinate_names, speed_parameter=hb.speed_parameter, harmonics=H,
+        subharmonic=hb.subharmonic, samples=hb.samples, multipliers=mu, stable=stable,
+        bifurcations=tuple(bifurcations), residual_error=np.array(errors), harmonic_share=np.array(shares),
+        reason=points.reason, stability_method=stability,
+    )
