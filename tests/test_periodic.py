@@ -153,9 +153,19 @@ def test_rub_branch_lies_on_the_closed_form_circles(rub_branch):
     for k in (0, 2, 3):
         assert np.max(b.harmonic_amplitude("x1", k)) < 1e-14
     # the branch passes its smooth fold and its grazing corner: two turning points
-    folds = [f for f in b.bifurcations if f.kind == "fold"]
-    assert len(folds) == 2
-    assert max(b.parameter) > folds[0].parameter - 0.5
+    assert [f.kind for f in b.bifurcations] == ["fold", "grazing fold"]
+    smooth, corner = b.bifurcations
+    W = np.linspace(130.0, 145.0, 150001)  # the smooth fold: where the quadratic's discriminant vanishes
+    a1, a2 = K - M * W**2 + KR, C * W + MU * KR
+    disc = (a1 * KR * DELTA + a2 * MU * KR * DELTA) ** 2 - (a1**2 + a2**2) * (
+        (KR * DELTA) ** 2 + (MU * KR * DELTA) ** 2 - (M * E * W**2) ** 2)
+    upper = (-(a1 * -KR * DELTA + a2 * -MU * KR * DELTA) + np.sqrt(np.maximum(disc, 0))) / (a1**2 + a2**2)
+    fold = W[np.flatnonzero((disc >= 0) & (upper > DELTA))[-1]]
+    assert abs(smooth.parameter - fold) < 2e-3 * fold
+    # the corner: the linear circle of radius delta, m e W^2 = delta |k - m W^2 + i c W| above the resonance
+    W = np.linspace(110.0, 115.0, 50001)
+    grazing = W[np.argmin(np.abs(M * E * W**2 - DELTA * np.abs(K - M * W**2 + 1j * C * W)))]
+    assert abs(corner.parameter - grazing) < 0.5
     assert np.any(r > 4 * DELTA) and np.any((r > DELTA) & (r < 1.2 * DELTA))
 
 
@@ -199,6 +209,52 @@ def test_friction_rub_stability_from_the_rotating_frame():
         expected = rotating_multipliers(b.parameter[i], b.complex_amplitude("x1", 1)[i], mu=0.05)
         assert nearest_distance(b.multipliers[i], expected) < 1e-7
         assert abs(circle_residual(b.parameter[i], b.harmonic_amplitude("x1", 1)[i], mu=0.05)) < 1e-8
+
+
+# --- partial rub: anisotropic bearing, gravity, contact over part of the period ------------------------------
+
+def partial_rub_system():
+    from rotorkit import Maneuver
+
+    return Model([Rotor(name="R", stations=(1,), speed=650.0),
+                  Disk(station=1, mass=M, radius=0.1, eccentricity=2e-5, torsion=False),
+                  LinearBearing(station=1, kxx=1.2e6, kyy=1.0e6, cxx=150.0, cyy=150.0),
+                  RubStator(station=1, clearance=1e-4, contact_stiffness=1e6, friction_coefficient=0.1),
+                  Maneuver.steady(gravity=9.81)], name="partialrub").compile(backend="c")
+
+
+def test_partial_rub_equals_settled_time_integration():
+    from rotorkit import simulate
+
+    system = partial_rub_system()
+    W = 650.0
+    T = 2 * np.pi / W
+    t = np.linspace(396 * T, 400 * T, 2049)[:-1]
+    run = simulate(system, (0.0, 400 * T), rtol=1e-11, atol=1e-14, sample_times=np.linspace(396 * T, 400 * T, 2049))
+    x, y = run.y[0][:-1], run.y[1][:-1]
+    r_time = np.max(np.hypot(x, y))
+
+    def harmonic(signal, k):
+        return 2 * np.mean(signal * np.exp(-1j * k * W * t))  # a_k - i b_k
+
+    errors = []
+    for H in (3, 6, 10):
+        b = periodic_solution(system, harmonics=H, stability="none")
+        errors.append(b.residual_error[0])
+        if H == 10:
+            assert abs(b.max_radius(1)[0] - r_time) <= 1e-4 * r_time
+            for k in (1, 2, 3):
+                for name, signal in (("x1", x), ("y1", y)):
+                    assert abs(b.complex_amplitude(name, k)[0] - harmonic(signal, k)) <= 1e-4 * r_time
+            assert abs(b.coefficients[0, 0, 1] - np.mean(y)) <= 1e-4 * r_time
+            contact = np.hypot(*b.orbit(0, 1)) > 1e-4
+            assert contact.any() and not contact.all()  # partial rub indeed
+    assert errors[0] > errors[1] > errors[2]
+
+
+def test_harmonics_raised_until_the_share_is_small():
+    b = periodic_solution(partial_rub_system(), harmonics=2, error_tol=1e-4, stability="none")
+    assert b.harmonic_share[0] <= 1e-4 and b.harmonics > 2
 
 
 # --- results ---------------------------------------------------------------------------------------------

@@ -238,14 +238,44 @@ def periodic_response(model_or_system, *, speeds, speed_parameter=None, harmonic
 
 
 def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, subharmonic=1, samples=None,
-                      start=None, stability="hill", tol=None, backend="auto", **values):
+                      start=None, stability="hill", tol=None, error_tol=None, max_harmonics=64, backend="auto",
+                      **values):
     """One periodic solution at the model's parameters (``values``: some changed, SI), as a one-point Branch.
+
+    Parameters
+    ----------
+    harmonics : int
+        ``H >= 1`` (the first one tried when ``error_tol`` is given).
+    error_tol : float, optional
+        Raise ``H`` (by half, at least by 2, up to ``max_harmonics``) until the share of the highest
+        harmonic (:attr:`~rotorkit.periodic.branch.Branch.harmonic_share`) is below ``error_tol``; each
+        solve starts from the previous solution.
+    max_harmonics : int
+        Upper limit of ``H`` for ``error_tol``.
+    Other parameters as in :func:`continuation`; ``values``: parameter name -> value (SI).
 
     Raises
     ------
     ConvergenceError
-        If Newton does not converge from ``start`` (default: zero, i.e. the linear response).
+        If Newton does not converge from ``start`` (default: zero, i.e. the linear response), or ``error_tol``
+        is not met with ``max_harmonics``.
     """
+    if error_tol is not None:
+        error_tol = _positive(error_tol, "error_tol")
+        H = _count(harmonics, "harmonics", 1)
+        max_harmonics = _count(max_harmonics, "max_harmonics", H)
+        while True:
+            branch = periodic_solution(model_or_system, harmonics=H, speed_parameter=speed_parameter,
+                                       subharmonic=subharmonic, samples=None, start=start, stability=stability,
+                                       tol=tol, backend=backend, **values)
+            if branch.harmonic_share[0] <= error_tol:
+                return branch
+            if H >= max_harmonics:
+                raise ConvergenceError(f"the share of harmonic {H} is {branch.harmonic_share[0]:.3g} > error_tol="
+                                       f"{error_tol:g} with max_harmonics={max_harmonics}", residual=None)
+            new = min(max_harmonics, max(H + 2, int(1.5 * H)))
+            start = np.vstack([branch.coefficients[0], np.zeros((2 * (new - H), branch.coefficients.shape[2]))])
+            H = new
     from ..periodic.continuation import BranchPoints, ContinuationProblem
     from ..periodic.hb import DEFAULT_TOLERANCE, HarmonicBalance, newton
 
@@ -269,6 +299,43 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
     points = BranchPoints(parameter=[lam], coefficients=[z], tangents=[np.zeros(hb.size + 1)], residuals=[0.0],
                           reason="single solution")
     return _branch(problem, points, stability)
+
+
+def _grazing_point(problem, lam, Z, i):
+    """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces): the mean of
+    the extrapolations to a zero gap (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap`) along
+    each piece from its two points nearest the corner (the nearer point's value when a piece has one)."""
+    estimates = []
+    for a, b in ((i - 1, i), (i + 2, i + 1)):
+        if not 0 <= a < len(lam):
+            estimates.append(lam[b])
+            continue
+        ga, gb = (problem.gap(Z[k].ravel(), lam[k]) for k in (a, b))
+        w = -gb / (gb - ga) if gb != ga else 0.0
+        estimates.append(lam[b] + w * (lam[b] - lam[a]))
+    return float(np.mean(estimates))
+
+
+def _turning_point(lam, Z, i):
+    """The parameter at the turning point between points ``i`` and ``i + 1``: the vertex of the parabola
+    ``lambda(s)`` through the three points around it (``s`` the arclength in amplitudes over their largest
+    value and the parameter over its range), else the farther of the two."""
+    farther = max(lam[i], lam[i + 1]) if lam[i] >= lam[max(i - 1, 0)] else min(lam[i], lam[i + 1])
+    j = [k for k in (i - 1, i, i + 1, i + 2) if 0 <= k < len(lam)]
+    if len(j) < 3:
+        return float(farther)
+    j = j[:3] if abs(lam[j[1]] - farther) < abs(lam[j[-2]] - farther) or len(j) == 3 else j[1:]
+    width = float(np.ptp(lam)) or 1.0
+    size = float(np.max(np.abs(Z))) or 1.0
+    steps = [np.sqrt(np.sum(((Z[b] - Z[a]) / size) ** 2) + ((lam[b] - lam[a]) / width) ** 2)
+             for a, b in zip(j, j[1:])]
+    s = np.concatenate([[0.0], np.cumsum(steps)])
+    a, b, c = np.polyfit(s, lam[j], 2)
+    if a == 0.0:
+        return float(farther)
+    vertex = c - b * b / (4.0 * a)
+    low, high = min(lam[j]), max(lam[j])
+    return float(vertex) if low - (high - low) <= vertex <= high + (high - low) else float(farther)
 
 
 def _branch(problem, points, stability):
@@ -299,8 +366,11 @@ def _branch(problem, points, stability):
     tangents = np.array(points.tangents)
     for i in range(len(lam) - 1):
         if tangents[i, -1] * tangents[i + 1, -1] < 0:
-            extreme = max if tangents[i, -1] > 0 else min  # the turning point: the farther of the two
-            bifurcations.append(Bifurcation("fold", i, float(extreme(lam[i], lam[i + 1]))))
+            grazing = hb.contact and not np.array_equal(problem.contact_state(Z[i].ravel(), lam[i]),
+                                                         problem.contact_state(Z[i + 1].ravel(), lam[i + 1]))
+            extreme = _grazing_point(problem, lam, Z, i) if grazing else _turning_point(lam, Z, i)
+            bifurcations.append(Bifurcation("grazing fold" if grazing else "fold", i,
+                                            extreme))
         if mu is not None:
             kind = classify_crossing(mu[i], mu[i + 1])
             if kind in ("period doubling", "Neimark-Sacker"):

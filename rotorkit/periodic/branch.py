@@ -18,8 +18,9 @@ class Bifurcation:
     Attributes
     ----------
     kind : str
-        ``"fold"`` (a turning point of the parameter: a multiplier through +1, or a grazing corner where the
-        branch turns back), ``"period doubling"`` (-1) or ``"Neimark-Sacker"`` (a complex pair).
+        ``"fold"`` (a smooth turning point of the parameter: a multiplier through +1), ``"grazing fold"``
+        (the branch turns back at a corner where the contact set changes: an orbit grazing a stator),
+        ``"period doubling"`` (a multiplier through -1) or ``"Neimark-Sacker"`` (a complex pair).
     index : int
         The point after which it lies.
     parameter : float

@@ -10,7 +10,7 @@ from ..errors import ParameterError
 __all__ = ["plot_branch_response", "plot_branch_orbit", "plot_branch_harmonics"]
 
 _LENGTH = {"m": 1.0, "mm": 1e3, "um": 1e6}
-_MARKERS = {"fold": "o", "period doubling": "s", "Neimark-Sacker": "D"}
+_MARKERS = {"fold": "o", "grazing fold": "^", "period doubling": "s", "Neimark-Sacker": "D"}
 
 
 def _factor(units):
@@ -38,7 +38,7 @@ def plot_branch_response(branch, station=None, *, coordinate=None, ax=None, unit
     """Max orbit radius of ``station`` (or the harmonic-1 amplitude of ``coordinate``) along the branch.
 
     Stable stretches solid, unstable dashed (solid throughout when stability was not computed);
-    bifurcations marked (o fold, s period doubling, D Neimark-Sacker).
+    bifurcations marked (o fold, ^ grazing fold, s period doubling, D Neimark-Sacker).
     """
     ax = _axes(ax)
     f = _factor(units)
