@@ -302,7 +302,8 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
 
 
 def _grazing_point(problem, lam, Z, i):
-    """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces): the mean of
+    """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces: some contact
+    switch is active at some instant on one side and at none on the other): the mean of
     the extrapolations to a zero gap (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap`) along
     each piece from its two points nearest the corner (the nearer point's value when a piece has one)."""
     estimates = []

@@ -17,8 +17,9 @@ Grazing corners: where an orbit just touches a stator all its contact
 samples switch at once and the branch may turn back at an angle (the contact
 and no-contact pieces meet at the grazing orbit with different tangents).
 The step then fails whatever its length. When a failing prediction lies on
-the other side of a contact switch than ``u_0`` (the sampled switch
-functions, :meth:`rotorkit.System.switch_values`, change sign), the tangent
+the other side of a grazing than ``u_0`` (a contact switch,
+:meth:`rotorkit.System.switch_values`, positive at some AFT sample on one
+side and at none on the other), the tangent
 of the other piece is taken from the Jacobian at the prediction (the
 analytic Jacobian there is the other side's), oriented so that it moves
 into the other side as ``t_0`` did, and the step is tried along it.
@@ -84,9 +85,10 @@ class ContinuationProblem:
         return (plus - self.residual(z, lam, jacobian=False)[0]) / step
 
     def contact_state(self, z, lam):
-        """Booleans: switch function > 0 at each AFT sample and switch (empty without contacts)."""
+        """Per contact switch: whether it is in contact (switch function > 0) at any AFT sample, shape
+        (n_switches,). A change of this state is a grazing: an orbit entering or leaving a contact."""
         frame = self.frame(lam)
-        return frame.switches(self.hb.states(z, frame)).ravel() > 0.0
+        return np.any(frame.switches(self.hb.states(z, frame)) > 0.0, axis=0)
 
     def gap(self, z, lam):
         """Largest sampled switch value (m for a rub: the deepest penetration, negative when clear)."""
