@@ -21,12 +21,51 @@ __all__ = ["Evaluator"]
 _C_SIGNATURE = ctypes.CFUNCTYPE(None, ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
 
 
+#: one C call for all rows: ``f(times[j], Y[j], p, out[j])`` for j < rows (``out`` zeroed first: jac adds to it)
+_BATCH_SOURCE = """
+typedef void (*model_function)(double, const double *, const double *, double *);
+void rotorkit_batch(model_function f, long rows, const double *times, const double *Y, long ny,
+                    const double *p, double *out, long nout) {
+    for (long j = 0; j < rows; ++j) {
+        for (long k = 0; k < nout; ++k) out[j * nout + k] = 0.0;
+        f(times[j], Y + j * ny, p, out + j * nout);
+    }
+}
+"""
+_BATCH = []
+
+
+def _batch_function():
+    """The C row loop (built once per cache), or None without a compiler (a Python loop then)."""
+    if not _BATCH:
+        try:
+            from ..codegen import cache, cbuild
+
+            library = cbuild.library(cache.shared_dir("periodic_batch"), "periodic_batch", _BATCH_SOURCE)
+            function = library.rotorkit_batch
+            function.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long,
+                                 ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long)
+            function.restype = None
+            _BATCH.append((library, function))
+        except Exception:  # noqa: BLE001 - no compiler or no cache: the Python loop does the same
+            _BATCH.append(None)
+    return _BATCH[0][1] if _BATCH[0] else None
+
+
 def _c_loop(function, prepared, times, Y, width):
     Y = np.ascontiguousarray(Y, dtype=float)
-    out = np.zeros((Y.shape[0], width))
+    rows = Y.shape[0]
+    out = np.zeros((rows, width))
+    times = np.ascontiguousarray(np.broadcast_to(times, (rows,)), dtype=float)
+    batch = _batch_function()
+    if batch is not None:
+        address = ctypes.cast(function, ctypes.c_void_p).value
+        batch(address, rows, times.ctypes.data, Y.ctypes.data, Y.shape[1], prepared.ctypes.data, out.ctypes.data,
+              width)
+        return out
     ry, ro = Y.shape[1] * 8, width * 8
     y0, o0, p = Y.ctypes.data, out.ctypes.data, prepared.ctypes.data
-    for j, t in enumerate(np.broadcast_to(times, (Y.shape[0],)).tolist()):
+    for j, t in enumerate(times.tolist()):
         function(t, y0 + j * ry, p, o0 + j * ro)
     return out
 

@@ -76,10 +76,8 @@ class Frame:
         ``M``, ``C = -M A_v`` and ``K = -M A_q`` of the linear part (SI).
     times : numpy.ndarray, shape (N,)
         The AFT instants ``2 pi j / (N w)`` (s).
-    forcing : numpy.ndarray, shape (2H+1, n)
-        Coefficients of the forces at rest ``M a(t, 0, 0)`` (N, N m).
-    scale : float
-        Largest amplitude of an oscillating harmonic of ``forcing`` (N): the residual's scale.
+    forcing, scale
+        See the properties (computed on use).
     """
 
     def __init__(self, hb, values):
@@ -101,15 +99,35 @@ class Frame:
         self.mass = hb.mass_matrix(merged)
         self.stiffness, self.damping = -self.mass @ self.Aq, -self.mass @ self.Av
         self._linear = None
-        rest = self.accelerations(np.zeros((hb.samples, 2 * n)))[:, n:] @ self.mass.T
-        self.forcing = hb.P @ rest
-        amplitudes = np.hypot(self.forcing[1::2], self.forcing[2::2])
-        self.scale = float(np.max(amplitudes)) if amplitudes.size else 0.0
-        if not self.scale > 1e-300:
-            raise NoOscillatingInput(
-                f"{hb.system.name}: nothing drives a periodic response at {hb.speed_parameter}={speed:g} rad/s "
-                "(no unbalance, no periodic force: every disk eccentricity is 0?); the steady state is static "
-                "(rotorkit.analysis.static)")
+        self._hb, self._speed, self._scale = hb, speed, None
+
+    @property
+    def forcing(self):
+        """Coefficients of the forces at rest ``M a(t, 0, 0)``, shape (2H+1, n) (N, N m)."""
+        n = self._hb.n
+        rest = self.accelerations(np.zeros((self._hb.samples, 2 * n)))[:, n:] @ self.mass.T
+        return self._hb.P @ rest
+
+    @property
+    def scale(self):
+        """Largest amplitude of an oscillating harmonic of :attr:`forcing` (N): the residual's scale.
+
+        Raises
+        ------
+        NoOscillatingInput
+            If it is zero.
+        """
+        if self._scale is None:
+            forcing = self.forcing
+            amplitudes = np.hypot(forcing[1::2], forcing[2::2])
+            scale = float(np.max(amplitudes)) if amplitudes.size else 0.0
+            if not scale > 1e-300:
+                raise NoOscillatingInput(
+                    f"{self._hb.system.name}: nothing drives a periodic response at {self._hb.speed_parameter}="
+                    f"{self._speed:g} rad/s (no unbalance, no periodic force: every disk eccentricity is 0?); the "
+                    "steady state is static (rotorkit.analysis.static)")
+            self._scale = scale
+        return self._scale
 
     def accelerations(self, Y):
         """``rhs`` at the AFT instants for the states ``Y`` (N, 2n): shape (N, 2n)."""
@@ -276,9 +294,15 @@ def _mass_function(model):
     names = [str(s) for s in symbols]
     f = sp.lambdify(symbols, M, modules="numpy")
 
+    found = {}
+
     def mass(values):
-        args = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in names]
-        return np.array(f(*args), dtype=float)
+        args = tuple(0.0 if name.endswith("_eccentricity") else float(values[name]) for name in names)
+        if args not in found:
+            if len(found) > 32:
+                found.clear()
+            found[args] = np.array(f(*args), dtype=float)
+        return found[args]
 
     return mass
 
