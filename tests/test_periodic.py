@@ -252,6 +252,27 @@ def test_partial_rub_equals_settled_time_integration():
     assert errors[0] > errors[1] > errors[2]
 
 
+def test_hill_keeps_one_exponent_per_family_for_real_negative_multipliers():
+    """Full annular rub offset by gravity on an anisotropic bearing, past the critical speed: two real negative
+    multipliers, whose Hill exponents a +- i w/2 are copies of each other; Hill must match the monodromy matrix."""
+    from rotorkit import Maneuver
+    from rotorkit.periodic.hb import HarmonicBalance
+
+    system = Model([Rotor(name="R", stations=(1,), speed=600.0),
+                    Disk(station=1, mass=M, radius=0.1, eccentricity=3e-5, torsion=False),
+                    LinearBearing(station=1, kxx=1.2e6, kyy=1.0e6, cxx=30.0, cyy=30.0),
+                    RubStator(station=1, clearance=1e-4, contact_stiffness=1e7, friction_coefficient=0.0),
+                    Maneuver.steady(gravity=9.81)], name="annularrub").compile(backend="c")
+    rough = periodic_response(system, speeds=(600.0, 740.0), harmonics=4, stability="none")
+    start = np.vstack([rough.coefficients[-1], np.zeros((16, 2))])
+    b = periodic_solution(system, harmonics=12, start=start, R_speed=740.0, stability="hill")
+    hb = HarmonicBalance(system.with_parameters(R_speed=740.0), speed_parameter="R_speed", harmonics=12)
+    mono = monodromy_multipliers(hb, b.coefficients[0].ravel(), hb.frame())[0]
+    negative = mono[(np.abs(mono.imag) < 1e-9) & (mono.real < 0)]
+    assert len(negative) == 2 and abs(negative[0] - negative[1]) > 0.1
+    assert nearest_distance(b.multipliers[0], mono) < 1e-6 and nearest_distance(mono, b.multipliers[0]) < 1e-6
+
+
 def test_harmonics_raised_until_the_share_is_small():
     b = periodic_solution(partial_rub_system(), harmonics=2, error_tol=1e-4, stability="none")
     assert b.harmonic_share[0] <= 1e-4 and b.harmonics > 2

@@ -18,7 +18,9 @@ Hill's method
     harmonic ``sum k |c_k|^2 / sum |c_k|^2`` of the complex harmonics
     ``c_k`` (``k = -H ... H``) of ``p`` is closest to 0 (the copy at
     ``lambda + i k w`` has its eigenvector shifted by ``-k`` harmonics, and
-    the copies near ``+-H`` are the ones truncation spoils). The
+    the copies near ``+-H`` are the ones truncation spoils), taking one
+    exponent per family ``lambda + i k w``: a real negative multiplier has
+    two equally centred exponents ``a +- i w / 2``, copies of each other. The
     multipliers are ``exp(lambda T)``.
 
 A solution is stable when every multiplier lies inside the unit circle
@@ -107,8 +109,18 @@ def hill_exponents(hb, z, frame):
 def hill_multipliers(hb, z, frame):
     """Floquet multipliers (complex, shape (2n,)) by Hill's method (see the module notes for the selection)."""
     lam, centre = hill_exponents(hb, z, frame)
-    keep = np.argsort(np.abs(centre), kind="stable")[: 2 * hb.n]
-    return np.exp(lam[keep] * frame.period)
+    w = frame.omega
+    kept = []
+    for i in np.argsort(np.abs(centre), kind="stable"):
+        shift = [(lam[i] - lam[j]) / (1j * w) for j in kept]
+        # a copy lambda + i k w (k != 0) of an exponent already kept is the same Floquet multiplier: skip it
+        # (a real negative multiplier's exponents a +- i w / 2 are copies of each other, equally centred)
+        if any(abs(d.imag) < 1e-6 and round(d.real) != 0 and abs(d.real - round(d.real)) < 1e-6 for d in shift):
+            continue
+        kept.append(i)
+        if len(kept) == 2 * hb.n:
+            break
+    return np.exp(lam[kept] * frame.period)
 
 
 def is_stable(multipliers, tol=STABILITY_TOL):
