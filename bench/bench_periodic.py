@@ -98,7 +98,7 @@ def section_a(repeat, runs):
     print(f"    ratio {n * per_run / hb:.0f}x (target >= 50x); load {load():.1f}")
 
 
-def chain_rotor(n_stations):
+def chain_rotor(n_stations, clearance=3e-7):
     """A chain of disks on springs (2 coordinates per station), a rub at the middle one, unbalance at the ends."""
     from rotorkit import Disk, ElasticSupport, Model, Rotor, RubStator
     from rotorkit.elements import LinearBearing
@@ -111,7 +111,7 @@ def chain_rotor(n_stations):
         elements.append(ElasticSupport(station=s, stiffness=1e6, damping=50.0))
     for a, b in zip(stations, stations[1:]):
         elements.append(LinearBearing(station=a, other_station=b, kxx=2e6, kyy=2e6, cxx=10.0, cyy=10.0))
-    elements.append(RubStator(station=stations[n_stations // 2], clearance=1e-6, contact_stiffness=1e6,
+    elements.append(RubStator(station=stations[n_stations // 2], clearance=clearance, contact_stiffness=1e6,
                               friction_coefficient=0.1))
     return Model(elements, name=f"chain{n_stations}")
 

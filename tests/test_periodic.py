@@ -278,6 +278,32 @@ def test_harmonics_raised_until_the_share_is_small():
     assert b.harmonic_share[0] <= 1e-4 and b.harmonics > 2
 
 
+# --- condensation onto the contact coordinates --------------------------------------------------------------
+
+def test_condensed_equals_full_harmonic_balance():
+    """A chain of 4 disks (8 coordinates) with a rub at disk 3: condensed onto (x3, y3), expanded, the same."""
+    stations = (1, 2, 3, 4)
+    elements = [Rotor(name="R", stations=stations, speed=300.0)]
+    for s in stations:
+        elements += [Disk(station=s, mass=1.0, radius=0.05, eccentricity=1e-5 if s in (1, 4) else 0.0,
+                          torsion=False), ElasticSupport(station=s, stiffness=1e6, damping=50.0)]
+    elements += [LinearBearing(station=a, other_station=b, kxx=2e6, kyy=2e6, cxx=10.0, cyy=10.0)
+                 for a, b in zip(stations, stations[1:])]
+    elements.append(RubStator(station=3, clearance=3e-7, contact_stiffness=1e6, friction_coefficient=0.1))
+    system = Model(elements, name="chain4").compile(backend="c")
+    from rotorkit.periodic.condensed import nonlinear_coordinates
+
+    assert nonlinear_coordinates(system.model) == ("x3", "y3")
+    for W in (300.0, 350.0):
+        condensed = periodic_solution(system, harmonics=3, condense=True, R_speed=W)
+        full = periodic_solution(system, harmonics=3, condense=False, R_speed=W)
+        assert condensed.max_radius(3)[0] > 3e-7  # in contact
+        scale = np.max(np.abs(full.coefficients))
+        assert np.max(np.abs(condensed.coefficients - full.coefficients)) < 1e-12 * scale
+        assert nearest_distance(condensed.multipliers[0], full.multipliers[0]) < 1e-10
+        assert condensed.residual_error[0] < 1e-8
+
+
 # --- results ---------------------------------------------------------------------------------------------
 
 def test_branch_results_roundtrip_and_plots(rub_branch, tmp_path):

@@ -118,7 +118,7 @@ def _linear_scale(problem, start, stop):
 
 def continuation(model_or_system, parameter, values, *, speed_parameter=None, harmonics=5, subharmonic=1,
                  samples=None, start=None, stability="hill", tol=None, step=0.02, min_step=1e-6, max_step=0.1,
-                 max_points=500, amplitude_scale=None, backend="auto", progress=None):
+                 max_points=500, amplitude_scale=None, condense="auto", backend="auto", progress=None):
     """Follow the periodic steady state of a model as ``parameter`` goes from ``values[0]`` to ``values[1]``.
 
     Parameters
@@ -152,6 +152,11 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
     amplitude_scale : float, optional
         Typical amplitude (m, rad); default the largest amplitude of the response with the nonlinear forces
         frozen at rest over the range.
+    condense : {"auto", True, False} or sequence of str
+        Solve for the coordinates where nonlinear forces act only (exact condensation through the dynamic
+        stiffness of the linear part, :mod:`rotorkit.periodic.condensed`), then expand to all coordinates.
+        ``"auto"``: when the model has at least ``CONDENSE_FROM`` coordinates and nonlinear forces on at most
+        half of them; a sequence names the coordinates kept.
     backend : str
         For a model: how to compile it (``"c"`` is the fast path).
     progress : callable, optional
@@ -171,7 +176,7 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
         Newton does not converge at ``values[0]``.
     """
     from ..periodic.continuation import ContinuationOptions, ContinuationProblem, continue_branch
-    from ..periodic.hb import DEFAULT_TOLERANCE, HarmonicBalance, newton
+    from ..periodic.hb import DEFAULT_TOLERANCE, newton
 
     system = _system(model_or_system, backend)
     speed_parameter = _speed_parameter(system, speed_parameter)
@@ -185,8 +190,8 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
     options = ContinuationOptions(step=_positive(step, "step"), min_step=_positive(min_step, "min_step"),
                                   max_step=_positive(max_step, "max_step"),
                                   max_points=_count(max_points, "max_points", 2), tol=tol)
-    hb = HarmonicBalance(system, speed_parameter=speed_parameter, harmonics=harmonics, subharmonic=subharmonic,
-                         samples=samples)
+    hb = _harmonic_balance(system, condense, speed_parameter=speed_parameter, harmonics=harmonics,
+                           subharmonic=subharmonic, samples=samples)
     problem = ContinuationProblem(hb, parameter)
     frame = problem.frame(lo)
     z0 = np.zeros(hb.size) if start is None else _start(start, hb)
@@ -202,6 +207,32 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
     return _branch(problem, points, stability)
 
 
+#: ``condense="auto"`` condenses models with at least this many coordinates
+CONDENSE_FROM = 12
+
+
+def _harmonic_balance(system, condense, **options):
+    """The plain or the condensed harmonic balance of ``system`` (see ``condense`` in :func:`continuation`)."""
+    from ..periodic.condensed import CondensedHarmonicBalance, nonlinear_coordinates
+    from ..periodic.hb import HarmonicBalance
+
+    n = len(system.coordinate_names)
+    if isinstance(condense, str) and condense == "auto":
+        if n < CONDENSE_FROM:
+            return HarmonicBalance(system, **options)
+        kept = nonlinear_coordinates(system.model)
+        if not kept or len(kept) > n // 2:
+            return HarmonicBalance(system, **options)
+        return CondensedHarmonicBalance(system, coordinates=kept, **options)
+    if condense is False or condense is None:
+        return HarmonicBalance(system, **options)
+    if condense is True:
+        return CondensedHarmonicBalance(system, **options)
+    if isinstance(condense, str) or not all(isinstance(c, str) for c in condense):
+        raise ParameterError(f"condense={condense!r} is invalid: expected 'auto', True, False or coordinate names")
+    return CondensedHarmonicBalance(system, coordinates=tuple(condense), **options)
+
+
 def _start(start, hb):
     try:
         z = np.array(start, dtype=float)
@@ -209,7 +240,8 @@ def _start(start, hb):
         raise ParameterError("start is invalid: expected Fourier coefficients of shape (2H + 1, n)") from None
     if z.shape != (2 * hb.harmonics + 1, hb.n):
         raise ParameterError(f"start has shape {z.shape}: expected ({2 * hb.harmonics + 1}, {hb.n})")
-    return z.ravel()
+    kept = getattr(hb, "kept", None)
+    return (z if kept is None else z[:, kept]).ravel()
 
 
 def periodic_response(model_or_system, *, speeds, speed_parameter=None, harmonics=5, **options):
@@ -238,8 +270,8 @@ def periodic_response(model_or_system, *, speeds, speed_parameter=None, harmonic
 
 
 def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, subharmonic=1, samples=None,
-                      start=None, stability="hill", tol=None, error_tol=None, max_harmonics=64, backend="auto",
-                      **values):
+                      start=None, stability="hill", tol=None, error_tol=None, max_harmonics=64, condense="auto",
+                      backend="auto", **values):
     """One periodic solution at the model's parameters (``values``: some changed, SI), as a one-point Branch.
 
     Parameters
@@ -267,7 +299,7 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
         while True:
             branch = periodic_solution(model_or_system, harmonics=H, speed_parameter=speed_parameter,
                                        subharmonic=subharmonic, samples=None, start=start, stability=stability,
-                                       tol=tol, backend=backend, **values)
+                                       tol=tol, condense=condense, backend=backend, **values)
             if branch.harmonic_share[0] <= error_tol:
                 return branch
             if H >= max_harmonics:
@@ -277,7 +309,7 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
             start = np.vstack([branch.coefficients[0], np.zeros((2 * (new - H), branch.coefficients.shape[2]))])
             H = new
     from ..periodic.continuation import BranchPoints, ContinuationProblem
-    from ..periodic.hb import DEFAULT_TOLERANCE, HarmonicBalance, newton
+    from ..periodic.hb import DEFAULT_TOLERANCE, newton
 
     system = _system(model_or_system, backend)
     if values:
@@ -288,8 +320,9 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
     if stability not in STABILITY_METHODS:
         raise ParameterError(f"stability={stability!r} is unknown: expected one of {STABILITY_METHODS}")
     tol = DEFAULT_TOLERANCE if tol is None else _positive(tol, "tol")
-    hb = HarmonicBalance(system, speed_parameter=speed_parameter, harmonics=_count(harmonics, "harmonics", 1),
-                         subharmonic=_count(subharmonic, "subharmonic", 1), samples=samples)
+    hb = _harmonic_balance(system, condense, speed_parameter=speed_parameter,
+                           harmonics=_count(harmonics, "harmonics", 1),
+                           subharmonic=_count(subharmonic, "subharmonic", 1), samples=samples)
     problem = ContinuationProblem(hb, speed_parameter)
     lam = system.parameters[speed_parameter]
     frame = problem.frame(lam)
@@ -311,7 +344,7 @@ def _grazing_point(problem, lam, Z, i):
         if not 0 <= a < len(lam):
             estimates.append(lam[b])
             continue
-        ga, gb = (problem.gap(Z[k].ravel(), lam[k]) for k in (a, b))
+        ga, gb = (problem.gap(np.ravel(Z[k]), lam[k]) for k in (a, b))
         w = -gb / (gb - ga) if gb != ga else 0.0
         estimates.append(lam[b] + w * (lam[b] - lam[a]))
     return float(np.mean(estimates))
@@ -345,31 +378,36 @@ def _branch(problem, points, stability):
     from ..periodic.stability import classify_crossing, hill_multipliers, is_stable, monodromy_multipliers
 
     hb = problem.hb
+    full = getattr(hb, "full", hb)  # the condensed problem's full harmonic balance
     n, H = hb.n, hb.harmonics
     lam = np.array(points.parameter, dtype=float)
-    Z = np.array(points.coefficients).reshape(len(lam), 2 * H + 1, n)
+    raw = [np.asarray(z) for z in points.coefficients]
+    if full is not hb:
+        Z = np.array([hb.expand(z, problem.frame(v)) for z, v in zip(raw, lam)]).reshape(len(lam), 2 * H + 1, n)
+    else:
+        Z = np.array(raw).reshape(len(lam), 2 * H + 1, n)
     omega, errors, shares, multipliers = [], [], [], []
     for value, z in zip(lam, Z):
         frame = problem.frame(value)
         omega.append(frame.omega)
-        r = hb.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
+        r = full.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
         errors.append(float(np.max(np.abs(r))) / frame.scale)
         amplitudes = np.hypot(z[1::2], z[2::2])
         top = float(np.max(amplitudes)) if amplitudes.size else 0.0
         shares.append(float(np.max(amplitudes[-1])) / top if top > 0 else 0.0)
         if stability == "hill":
-            multipliers.append(hill_multipliers(hb, z.ravel(), frame))
+            multipliers.append(hill_multipliers(full, z.ravel(), frame))
         elif stability == "monodromy":
-            multipliers.append(monodromy_multipliers(hb, z.ravel(), frame)[0])
+            multipliers.append(monodromy_multipliers(full, z.ravel(), frame)[0])
     mu = np.array(multipliers) if multipliers else None
     stable = np.array([is_stable(m) for m in mu]) if mu is not None else None
     bifurcations = []
     tangents = np.array(points.tangents)
     for i in range(len(lam) - 1):
         if tangents[i, -1] * tangents[i + 1, -1] < 0:
-            grazing = hb.contact and not np.array_equal(problem.contact_state(Z[i].ravel(), lam[i]),
-                                                         problem.contact_state(Z[i + 1].ravel(), lam[i + 1]))
-            extreme = _grazing_point(problem, lam, Z, i) if grazing else _turning_point(lam, Z, i)
+            grazing = hb.contact and not np.array_equal(problem.contact_state(raw[i], lam[i]),
+                                                         problem.contact_state(raw[i + 1], lam[i + 1]))
+            extreme = _grazing_point(problem, lam, raw, i) if grazing else _turning_point(lam, Z, i)
             bifurcations.append(Bifurcation("grazing fold" if grazing else "fold", i,
                                             extreme))
         if mu is not None:
