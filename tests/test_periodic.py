@@ -211,6 +211,27 @@ def test_friction_rub_stability_from_the_rotating_frame():
         assert abs(circle_residual(b.parameter[i], b.harmonic_amplitude("x1", 1)[i], mu=0.05)) < 1e-8
 
 
+def test_continuation_in_the_clearance_and_the_point_budget(rub_system):
+    """At 125 rad/s, clearance from 0.2 mm down: every point lies on the circle of its own clearance; where
+    the clearance reaches the linear circle's radius the branch turns back at a grazing corner onto a
+    contact circle (three coexist at 0.1 mm, see test_three_coexisting_circles_found) and leaves the range
+    at 0.2 mm again."""
+    W = 125.0
+    system = rub_system.with_parameters(R_speed=W)
+    b = continuation(system, "rub1_clearance", (2e-4, 2e-5), harmonics=2, stability="none")
+    assert b.reason.startswith("parameter bound") and b.parameter[-1] in (2e-4, 2e-5)
+    assert [f.kind for f in b.bifurcations] == ["grazing fold"]
+    linear = M * E * W**2 / abs(K - M * W**2 + 1j * C * W)
+    assert abs(b.bifurcations[0].parameter - linear) < 0.02 * linear
+    r = b.harmonic_amplitude("x1", 1)
+    s = KR * np.maximum(0.0, 1.0 - b.parameter / r)
+    residual = (np.abs(K - M * W**2 + 1j * C * W + s * (1 + 1j * MU)) * r - M * E * W**2) / (M * E * W**2)
+    assert np.max(np.abs(residual)) < 1e-8
+    assert np.any(r > b.parameter) and np.any(r < b.parameter)  # clear of the stator, then rubbing
+    short = continuation(system, "rub1_clearance", (2e-4, 2e-5), harmonics=2, stability="none", max_points=5)
+    assert len(short) == 5 and short.reason.startswith("point budget")
+
+
 # --- partial rub: anisotropic bearing, gravity, contact over part of the period ------------------------------
 
 def partial_rub_system():
