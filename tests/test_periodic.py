@@ -380,3 +380,12 @@ def test_no_oscillating_input():
 def test_convergence_error_is_named():
     with pytest.raises(ConvergenceError, match="start="):
         periodic_response(rub_model().compile(backend="c"), speeds=(60.0, 80.0), tol=1e-40)
+
+
+def test_docstring_example_runs():
+    import doctest
+
+    import rotorkit.analysis.periodic as periodic
+
+    failures, tried = doctest.testmod(periodic, verbose=False)
+    assert tried > 0 and failures == 0

@@ -16,7 +16,7 @@ Examples
 ...                Disk(station=1, mass=2.0, radius=0.1, eccentricity=1e-5, torsion=False),
 ...                ElasticSupport(station=1, stiffness=2e4, damping=4.0)])
 >>> branch = periodic_response(model, speeds=(50.0, 150.0), harmonics=1, backend="python")
->>> bool(branch.stable.all()), round(float(branch.max_radius(1).max() / 1e-5), 2)   # peak e / (2 zeta)
+>>> bool(branch.stable.all()), round(float(branch.max_radius(1).max() / 1e-5), 1)   # peak e / (2 zeta)
 (True, 50.0)
 """
 

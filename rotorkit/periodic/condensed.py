@@ -28,8 +28,20 @@ from .hb import HarmonicBalance
 __all__ = ["CondensedHarmonicBalance", "nonlinear_coordinates"]
 
 
+_FOUND = {}
+
+
 def nonlinear_coordinates(model):
     """Names of the coordinates on which a force that is not linear in the states acts or depends."""
+    key = model.structure_key
+    if key not in _FOUND:
+        if len(_FOUND) > 16:
+            _FOUND.clear()
+        _FOUND[key] = _nonlinear_coordinates(model)
+    return _FOUND[key]
+
+
+def _nonlinear_coordinates(model):
     import sympy as sp
 
     eqs = model.equations()

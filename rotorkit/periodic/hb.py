@@ -285,8 +285,20 @@ class HarmonicBalance:
         return (acc - a) @ frame.mass.T
 
 
+_MASS_FUNCTIONS = {}
+
+
 def _mass_function(model):
-    """``values -> M`` from the derived constant mass matrix (eccentricities 0)."""
+    """``values -> M`` from the derived constant mass matrix (eccentricities 0); one per model structure."""
+    found = _MASS_FUNCTIONS.get(model.structure_key)
+    if found is None:
+        if len(_MASS_FUNCTIONS) > 16:
+            _MASS_FUNCTIONS.clear()
+        found = _MASS_FUNCTIONS[model.structure_key] = _new_mass_function(model)
+    return found
+
+
+def _new_mass_function(model):
     import sympy as sp
 
     M = model.equations().linear_mass_matrix()
