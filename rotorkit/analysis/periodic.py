@@ -336,18 +336,50 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
 
 def _grazing_point(problem, lam, Z, i):
     """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces: some contact
-    switch is active at some instant on one side and at none on the other): the mean of
-    the extrapolations to a zero gap (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap`) along
-    each piece from its two points nearest the corner (the nearer point's value when a piece has one)."""
+    switch is active at some instant on one side and at none on the other).
+
+    Along each piece, from its two points nearest the corner, a secant iteration on the deepest penetration
+    (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap`) with a Newton solve at each new
+    parameter value (staying on that piece) drives the penetration to zero; the two pieces' values are
+    averaged (they agree to the iteration's accuracy; a piece with one point gives its value as it is).
+    """
     estimates = []
     for a, b in ((i - 1, i), (i + 2, i + 1)):
         if not 0 <= a < len(lam):
-            estimates.append(lam[b])
+            estimates.append(float(lam[b]))
             continue
-        ga, gb = (problem.gap(np.ravel(Z[k]), lam[k]) for k in (a, b))
-        w = -gb / (gb - ga) if gb != ga else 0.0
-        estimates.append(lam[b] + w * (lam[b] - lam[a]))
+        estimates.append(_secant_to_grazing(problem, np.ravel(Z[a]), lam[a], np.ravel(Z[b]), lam[b]))
     return float(np.mean(estimates))
+
+
+def _secant_to_grazing(problem, za, la, zb, lb, iterations=8):
+    """The parameter where the penetration along the piece through ``(za, la)`` and ``(zb, lb)`` is zero."""
+    from ..periodic.hb import newton
+
+    hb = problem.hb
+    ga, gb = problem.gap(za, la), problem.gap(zb, lb)
+    state = problem.contact_state(zb, lb)
+    size = max(abs(ga), abs(gb))
+    for _ in range(iterations):
+        if gb == ga or abs(gb) <= 1e-9 * size:
+            break
+        lc = lb - gb * (lb - la) / (gb - ga)
+        for _ in range(30):  # past the corner this piece has no solution: halve the step back towards lb
+            guess = zb + (zb - za) * ((lc - lb) / (lb - la) if lb != la else 0.0)
+            frame = problem.frame(lc)
+            try:
+                zc = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), guess, tol=1e-10,
+                            scale=frame.scale, max_iterations=20)[0]
+                gc = problem.gap(zc, lc)
+                if abs(gc) <= 1e-6 * size or np.array_equal(problem.contact_state(zc, lc), state):
+                    break  # still on this piece
+            except ConvergenceError:
+                pass
+            lc = lb + 0.5 * (lc - lb)
+        else:
+            break
+        za, la, ga, zb, lb, gb = zb, lb, gb, zc, lc, gc
+    return float(lb - gb * (lb - la) / (gb - ga)) if gb != ga else float(lb)
 
 
 def _turning_point(lam, Z, i):
