@@ -98,7 +98,7 @@ def section_a(repeat, runs):
           f"({1e3 * hb / n:.1f} ms/point, stability included)")
     print(f"    time integration to a settled orbit ({SETTLE_PERIODS} periods, C engine): {per_run:.3f} s per speed, "
           f"{n} speeds {n * per_run:.1f} s")
-    print(f"    ratio {n * per_run / hb:.0f}x (target >= 50x); load {load():.1f}")
+    print(f"    ratio {n * per_run / hb:.2g}x (target >= 50x); load {load():.1f}")
 
 
 def section_b(repeat, nodes):
