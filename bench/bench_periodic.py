@@ -1,0 +1,240 @@
+"""Periodic response by harmonic balance: speed against time integration, Floquet cost, and the docs figure.
+
+    PYTHONPATH=. python bench/bench_periodic.py                       # sections a and c, median of 3
+    PYTHONPATH=. python bench/bench_periodic.py --sections a --repeat 5
+    PYTHONPATH=. python bench/bench_periodic.py --sections figure --out docs/figures/periodic
+
+Sections (each prints what it measured in this run, and the load average):
+
+``a``       Jeffcott rotor with a concentric rub stator (the example of
+            docs/periodic.md): a branch of about 200 points from 60 to 200
+            rad/s through its fold pair (``periodic_response``, H = 3,
+            stability by Hill's method included) against the compiled time
+            integration (``simulate``, the C engine, rtol 1e-6) of as many
+            speeds, each from rest to a settled orbit (``SETTLE_PERIODS``
+            periods, the way a sweep finds them), which times ``--runs``
+            speeds and scales to the branch's point count. The ratio is the
+            issue's target (a), >= 50.
+``b``       the 24-element (100-coordinate) beam rotor of bench/bench_fe.py
+            with its rub stator, condensed onto the contact coordinates
+            (``condense=True``): one harmonic-balance solution (median of
+            ``--repeat``) and a branch of about 100 points over a speed range
+            (stability by Hill's method on the full model, error estimates).
+            Targets (b): <= 20 ms and <= 5 s.
+``c``       Floquet multipliers of one solution of an ``n``-coordinate chain
+            rotor with a rub (``--coordinates``, default 100): Hill's method
+            and the monodromy matrix. Target (c): <= 0.5 s.
+``figure``  docs/periodic.md's figure: the branch of section a, with a
+            run-up and a run-down in time (each speed from the previous
+            speed's final state, an integer number of periods, the settled
+            max radius) marked on it.
+
+"""
+
+import argparse
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+M, K, C, E = 2.0, 2.0e4, 4.0, 2.0e-5
+DELTA, KR = 1.0e-4, 2.0e4
+SPEEDS = (60.0, 200.0)
+SETTLE_PERIODS = 300  # zeta = 0.01 at 100 rad/s: the transient decays by exp(-2 pi zeta 300 W / wn) ~ 1e-6..1e-11
+
+
+def jeffcott_rub(speed=60.0):
+    from rotorkit import Disk, ElasticSupport, Model, Rotor, RubStator
+
+    return Model([Rotor(name="R", stations=(1,), speed=speed),
+                  Disk(station=1, mass=M, radius=0.1, eccentricity=E, torsion=False),
+                  ElasticSupport(station=1, stiffness=K, damping=C),
+                  RubStator(station=1, clearance=DELTA, contact_stiffness=KR, friction_coefficient=0.0)],
+                 name="jeffcott_rub")
+
+
+def load():
+    return os.getloadavg()[0]
+
+
+def settled_radius(system, speed, y0=None, periods=SETTLE_PERIODS):
+    """Max radius (m) over the last 4 periods of a run of ``periods`` periods at ``speed``, and the final state."""
+    from rotorkit import simulate
+
+    T = 2 * np.pi / speed
+    run = simulate(system.with_parameters(R_speed=speed), (0.0, periods * T), y0=y0, rtol=1e-6, atol=1e-10,
+                   sample_times=np.linspace((periods - 4) * T, periods * T, 257))
+    return float(np.max(np.hypot(run.y[0], run.y[1]))), run.y[:, -1]
+
+
+def section_a(repeat, runs):
+    from rotorkit.analysis.periodic import periodic_response
+
+    system = jeffcott_rub().compile(backend="c")
+    periodic_response(system, speeds=SPEEDS, harmonics=3, max_points=20)  # warm: Jacobian module, C builds
+    settled_radius(system, 100.0, periods=10)
+    hb_times, branch = [], None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        branch = periodic_response(system, speeds=SPEEDS, harmonics=3, step=0.012, max_step=0.03)
+        hb_times.append(time.perf_counter() - t0)
+    speeds = np.linspace(*SPEEDS, runs)
+    time_times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        for w in speeds:
+            settled_radius(system, w)
+        time_times.append((time.perf_counter() - t0) / runs)
+    hb, per_run = statistics.median(hb_times), statistics.median(time_times)
+    n = len(branch)
+    print(f"(a) Jeffcott rub branch, {n} points, folds at "
+          f"{', '.join(f'{b.parameter:.2f}' for b in branch.bifurcations)} rad/s: {hb:.3f} s "
+          f"({1e3 * hb / n:.1f} ms/point, stability included)")
+    print(f"    time integration to a settled orbit ({SETTLE_PERIODS} periods, C engine): {per_run:.3f} s per speed, "
+          f"{n} speeds {n * per_run:.1f} s")
+    print(f"    ratio {n * per_run / hb:.2g}x (target >= 50x); load {load():.1f}")
+
+
+def section_b(repeat, nodes):
+    from bench_fe import fe_rotor
+
+    from rotorkit.analysis.periodic import periodic_response, periodic_solution
+
+    t0 = time.perf_counter()
+    system = fe_rotor(nodes).compile()
+    print(f"(b) {len(system.coordinate_names)}-coordinate beam rotor ({system.backend}): derive + compile "
+          f"{time.perf_counter() - t0:.1f} s")
+    speed = system.parameters["R_speed"]
+    t0 = time.perf_counter()
+    first = periodic_solution(system, harmonics=3, condense=True, stability="none")
+    print(f"    first solution (Jacobian module, condensation set-up) {time.perf_counter() - t0:.1f} s; max radius "
+          f"at the rub {first.max_radius(nodes // 3 + 1)[0]:.3g} m")
+    from rotorkit.periodic.condensed import CondensedHarmonicBalance
+    from rotorkit.periodic.hb import newton
+
+    hb = CondensedHarmonicBalance(system, speed_parameter="R_speed", harmonics=3)
+    start = first.coefficients[0][:, hb.kept].ravel()
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        frame = hb.frame({"R_speed": speed * 1.01})
+        newton(lambda z, j: hb.residual(z, frame, j), start, tol=1e-10, scale=frame.scale)
+        times.append(time.perf_counter() - t0)
+    print(f"    one condensed HB solution (H = 3, N = {hb.samples}, {hb.size} unknowns, from the solution at "
+          f"{speed:g} rad/s, the frame at the new speed included): {1e3 * statistics.median(times):.1f} ms "
+          "(target <= 20 ms)")
+    t0 = time.perf_counter()
+    branch = periodic_response(system, speeds=(0.5 * speed, 1.5 * speed), harmonics=3, condense=True,
+                               stability="none", step=0.03, max_step=0.03)
+    elapsed = time.perf_counter() - t0
+    print(f"    branch of {len(branch)} points {0.5 * speed:g}..{1.5 * speed:g} rad/s: {elapsed:.2f} s (target "
+          f"<= 5 s for 100 points; {branch.reason}); load {load():.1f}")
+
+
+def chain_rotor(n_stations, clearance=3e-7):
+    """A chain of disks on springs (2 coordinates per station), a rub at the middle one, unbalance at the ends."""
+    from rotorkit import Disk, ElasticSupport, Model, Rotor, RubStator
+    from rotorkit.elements import LinearBearing
+
+    stations = tuple(range(1, n_stations + 1))
+    elements = [Rotor(name="R", stations=stations, speed=300.0)]
+    for s in stations:
+        elements.append(Disk(station=s, mass=1.0, radius=0.05, eccentricity=1e-5 if s in (1, n_stations) else 0.0,
+                             torsion=False))
+        elements.append(ElasticSupport(station=s, stiffness=1e6, damping=50.0))
+    for a, b in zip(stations, stations[1:]):
+        elements.append(LinearBearing(station=a, other_station=b, kxx=2e6, kyy=2e6, cxx=10.0, cyy=10.0))
+    elements.append(RubStator(station=stations[n_stations // 2], clearance=clearance, contact_stiffness=1e6,
+                              friction_coefficient=0.1))
+    return Model(elements, name=f"chain{n_stations}")
+
+
+def section_c(repeat, coordinates, harmonics):
+    from rotorkit.periodic.hb import HarmonicBalance, newton
+    from rotorkit.periodic.stability import hill_multipliers, monodromy_multipliers
+
+    system = chain_rotor(coordinates // 2).compile()
+    hb = HarmonicBalance(system, speed_parameter="R_speed", harmonics=harmonics)
+    frame = hb.frame()
+    hb.residual(np.zeros(hb.size), frame)  # warm: the Jacobian's first compilation is not timed
+    t0 = time.perf_counter()
+    z = newton(lambda z, j: hb.residual(z, frame, j), np.zeros(hb.size), tol=1e-10, scale=frame.scale)[0]
+    solve = time.perf_counter() - t0
+    hill, mono = [], []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        mh = hill_multipliers(hb, z, frame)
+        hill.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        mm = monodromy_multipliers(hb, z, frame)[0]
+        mono.append(time.perf_counter() - t0)
+    gap = np.max(np.min(np.abs(mh[:, None] - mm[None, :]), axis=1))
+    print(f"(c) {hb.n} coordinates, H = {harmonics}, N = {hb.samples}: one HB solution {solve:.3f} s; "
+          f"Floquet multipliers by Hill {statistics.median(hill):.3f} s, by the monodromy matrix "
+          f"{statistics.median(mono):.3f} s (target <= 0.5 s); largest |mu| {np.max(np.abs(mm)):.6f}, "
+          f"Hill-monodromy gap {gap:.1e}; load {load():.1f}")
+
+
+def section_figure(out):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotorkit.analysis.periodic import periodic_response
+
+    system = jeffcott_rub().compile(backend="c")
+    branch = periodic_response(system, speeds=SPEEDS, harmonics=3)
+    speeds = np.arange(80.0, 160.1, 4.0)
+    up, y = [], None
+    for w in speeds:
+        r, y = settled_radius(system, w, y0=y)
+        up.append(r)
+    down = []
+    for w in speeds[::-1]:
+        r, y = settled_radius(system, w, y0=y)
+        down.append(r)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    branch.plot_response(1, ax=ax, label="harmonic balance (dashed: unstable)")
+    ax.plot(speeds, 1e3 * np.array(up), "^", color="C1", label="time, run-up")
+    ax.plot(speeds[::-1], 1e3 * np.array(down), "v", color="C2", mfc="none", label="time, run-down")
+    ax.axhline(1e3 * DELTA, color="0.6", lw=0.8)
+    ax.legend()
+    ax.set_xlim(60, 200)
+    fig.tight_layout()
+    out.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out / "jeffcott_rub_branch.png", dpi=110)
+    print(f"figure: {out / 'jeffcott_rub_branch.png'}; folds "
+          f"{', '.join(f'{b.kind} {b.parameter:.2f}' for b in branch.bifurcations)}")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sections", nargs="+", default=["a", "b", "c"], choices=("a", "b", "c", "figure"))
+    parser.add_argument("--nodes", type=int, default=25, help="beam nodes of the section b rotor (4 coordinates each)")
+    parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
+    parser.add_argument("--runs", type=int, default=10, help="time-integrated speeds timed in section a")
+    parser.add_argument("--coordinates", type=int, default=100, help="size of the section c rotor")
+    parser.add_argument("--harmonics", type=int, default=3, help="H of the section c solution")
+    parser.add_argument("--out", default=str(ROOT / "docs" / "figures" / "periodic"))
+    args = parser.parse_args()
+    print(f"load average {load():.1f} on {os.cpu_count()} cores")
+    if "a" in args.sections:
+        section_a(args.repeat, args.runs)
+    if "b" in args.sections:
+        sys.path.insert(0, str(ROOT / "bench"))
+        section_b(args.repeat, args.nodes)
+    if "c" in args.sections:
+        section_c(args.repeat, args.coordinates, args.harmonics)
+    if "figure" in args.sections:
+        section_figure(Path(args.out))
+
+
+if __name__ == "__main__":
+    main()

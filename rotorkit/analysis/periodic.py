@@ -1,0 +1,458 @@
+"""Periodic response of a nonlinear rotor: harmonic balance, continuation, Floquet stability, bifurcations.
+
+:func:`periodic_response` follows the periodic steady state of a model with
+rub, Hertzian bearings or other local nonlinearities over a range of its
+speed; :func:`continuation` does the same in any other parameter
+(clearance, friction coefficient, unbalance, a bearing coefficient). Both
+return a :class:`~rotorkit.periodic.branch.Branch` with the Fourier
+coefficients, the stability (Floquet multipliers), bifurcations and error
+estimates of each point. The method and its conventions are in
+:mod:`rotorkit.periodic` and on the documentation page *Periodic response*.
+
+Examples
+--------
+>>> from rotorkit import Disk, ElasticSupport, Model, Rotor
+>>> model = Model([Rotor(name="R", stations=(1,), speed=50.0),
+...                Disk(station=1, mass=2.0, radius=0.1, eccentricity=1e-5, torsion=False),
+...                ElasticSupport(station=1, stiffness=2e4, damping=4.0)])
+>>> branch = periodic_response(model, speeds=(50.0, 150.0), harmonics=1, backend="python")
+>>> bool(branch.stable.all()), round(float(branch.max_radius(1).max() / 1e-5), 1)   # peak e / (2 zeta)
+(True, 50.0)
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..periodic.errors import ConvergenceError, NoOscillatingInput
+
+__all__ = ["periodic_response", "continuation", "periodic_solution", "ConvergenceError", "NoOscillatingInput"]
+
+#: truncation-error grid: this many times the AFT samples
+ERROR_GRID_FACTOR = 4
+STABILITY_METHODS = ("hill", "monodromy", "none")
+
+
+def _system(model_or_system, backend):
+    if hasattr(model_or_system, "compile") and hasattr(model_or_system, "equations"):
+        return model_or_system.compile(backend=backend)
+    if not (hasattr(model_or_system, "rhs") and hasattr(model_or_system, "jacobian")):
+        raise TypeError(f"expected a rotorkit Model or System, got {type(model_or_system).__name__}")
+    return model_or_system
+
+
+def _speed_parameter(system, speed_parameter):
+    model = system.model
+    available = [f"{name}_speed" for name, r in model.rotors.items() if r.speed is not None and r.profile is None]
+    if speed_parameter is None:
+        if not available:
+            raise ParameterError(f"{system.name!r} has no rotor with a constant speed of its own: the periodic "
+                                 "response needs one (freeze a speed profile with "
+                                 "rotorkit.analysis.linear_matrices.frozen_speed_model)")
+        return available[0]
+    if speed_parameter not in available:
+        raise ParameterError(f"speed_parameter={speed_parameter!r} is not a constant rotor speed: expected one of "
+                             f"{available}")
+    return speed_parameter
+
+
+def _check_parameter(system, name):
+    if not isinstance(name, str) or name not in system.parameters:
+        import difflib
+
+        near = difflib.get_close_matches(str(name), list(system.parameters), n=3)
+        hint = f" (did you mean {', '.join(near)}?)" if near else ""
+        raise ParameterError(f"parameter {name!r} is unknown{hint}: expected one of "
+                             f"{', '.join(sorted(system.parameters))}")
+    return name
+
+
+def _range(system, name, values, what):
+    from ..units import to_si
+
+    unit = system.model.parameter_units.get(name, "")
+    try:
+        start, stop = values
+    except (TypeError, ValueError):
+        raise ParameterError(f"{what}={values!r} is invalid: expected (start, stop)") from None
+    start, stop = (to_si(v, unit, f"{what} of {name}") for v in (start, stop))
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise ParameterError(f"{what}={values!r} is invalid: expected finite values")
+    if start == stop:
+        raise ParameterError(f"{what}=({start:g}, {stop:g}) has zero width: expected start != stop")
+    for v in (start, stop):
+        system.with_parameters(**{name: v})  # the element checks its value (sign, range)
+    return start, stop
+
+
+def _count(value, name, low):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise ParameterError(f"{name}={value!r} is invalid: expected an integer >= {low}")
+    return int(value)
+
+
+def _positive(value, name):
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
+        raise ParameterError(f"{name}={value!r} is invalid: expected a positive number")
+    return float(value)
+
+
+def _linear_scale(problem, start, stop):
+    """Largest amplitude of the response with the nonlinear forces as at rest, over 33 parameter values."""
+    hb = problem.hb
+    biggest = 0.0
+    z = np.zeros(hb.size)
+    for lam in np.linspace(start, stop, 33):
+        frame = problem.frame(lam)
+        R, J = hb.residual(z, frame)
+        try:
+            biggest = max(biggest, float(np.max(np.abs(np.linalg.solve(J, -R)))))
+        except np.linalg.LinAlgError:
+            continue
+    return biggest if biggest > 0 else 1.0
+
+
+def continuation(model_or_system, parameter, values, *, speed_parameter=None, harmonics=5, subharmonic=1,
+                 samples=None, start=None, stability="hill", tol=None, step=0.02, min_step=1e-6, max_step=0.1,
+                 max_points=500, amplitude_scale=None, condense="auto", backend="auto", progress=None):
+    """Follow the periodic steady state of a model as ``parameter`` goes from ``values[0]`` to ``values[1]``.
+
+    Parameters
+    ----------
+    model_or_system : rotorkit.Model or rotorkit.System
+        A model is compiled (``backend``). Every rotor speed is constant.
+    parameter : str
+        Any parameter of the model (``R_speed``, ``rub1_clearance``, ``disk1_eccentricity``, ...).
+    values : (start, stop)
+        Range of ``parameter`` (SI floats, pint quantities or strings with units); the branch starts at
+        ``start`` and may turn back at folds; it ends when it leaves the range.
+    speed_parameter : str, optional
+        The rotor speed that sets the base frequency ``w = Omega / nu`` (default: the first rotor's).
+    harmonics : int
+        ``H >= 1`` harmonics of ``w``.
+    subharmonic : int
+        ``nu >= 1``: 1 for synchronous solutions, 2, 3, ... for sub-harmonic ones.
+    samples : int, optional
+        AFT samples per period, ``>= 2H + 1``; default the power of two ``>= 4 (H + 1)``, ``>= 8 (H + 1)``
+        with contacts.
+    start : array_like, shape (2H + 1, n), optional
+        Fourier coefficients to start Newton from at ``values[0]`` (default zero: the linear response).
+    stability : {"hill", "monodromy", "none"}
+        How the Floquet multipliers are computed (:mod:`rotorkit.periodic.stability`).
+    tol : float, optional
+        Newton tolerance on ``max |R|`` (N) relative to the largest oscillating force at rest (default 1e-10).
+    step, min_step, max_step : float
+        Arclength steps in scaled units (amplitudes over ``amplitude_scale``, the parameter over the range).
+    max_points : int
+        Point budget.
+    amplitude_scale : float, optional
+        Typical amplitude (m, rad); default the largest amplitude of the response with the nonlinear forces
+        frozen at rest over the range.
+    condense : {"auto", True, False} or sequence of str
+        Solve for the coordinates where nonlinear forces act only (exact condensation through the dynamic
+        stiffness of the linear part, :mod:`rotorkit.periodic.condensed`), then expand to all coordinates.
+        ``"auto"``: when the model has at least ``CONDENSE_FROM`` coordinates and nonlinear forces on at most
+        half of them; a sequence names the coordinates kept.
+    backend : str
+        For a model: how to compile it (``"c"`` is the fast path).
+    progress : callable, optional
+        ``progress(count, value)`` after each point.
+
+    Returns
+    -------
+    rotorkit.periodic.branch.Branch
+
+    Raises
+    ------
+    ParameterError
+        An unknown parameter, a range of zero width, ``H < 1``, bad options.
+    NoOscillatingInput
+        Nothing periodic drives the model (no unbalance, no periodic force).
+    ConvergenceError
+        Newton does not converge at ``values[0]``.
+    """
+    from ..periodic.continuation import ContinuationOptions, ContinuationProblem, continue_branch
+    from ..periodic.hb import DEFAULT_TOLERANCE, newton
+
+    system = _system(model_or_system, backend)
+    speed_parameter = _speed_parameter(system, speed_parameter)
+    parameter = _check_parameter(system, parameter)
+    harmonics = _count(harmonics, "harmonics", 1)
+    subharmonic = _count(subharmonic, "subharmonic", 1)
+    lo, hi = _range(system, parameter, values, "values")
+    if stability not in STABILITY_METHODS:
+        raise ParameterError(f"stability={stability!r} is unknown: expected one of {STABILITY_METHODS}")
+    tol = DEFAULT_TOLERANCE if tol is None else _positive(tol, "tol")
+    options = ContinuationOptions(step=_positive(step, "step"), min_step=_positive(min_step, "min_step"),
+                                  max_step=_positive(max_step, "max_step"),
+                                  max_points=_count(max_points, "max_points", 2), tol=tol)
+    hb = _harmonic_balance(system, condense, speed_parameter=speed_parameter, harmonics=harmonics,
+                           subharmonic=subharmonic, samples=samples)
+    problem = ContinuationProblem(hb, parameter)
+    frame = problem.frame(lo)
+    z0 = np.zeros(hb.size) if start is None else _start(start, hb)
+    try:
+        z0 = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
+                    max_iterations=50, what=f"the solution at {parameter}={lo:g}")[0]
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{exc}; give start=... coefficients near a solution, or start the range where the "
+                               "response is nearly linear", residual=exc.residual, parameter=lo) from None
+    scale = _linear_scale(problem, lo, hi) if amplitude_scale is None else _positive(amplitude_scale,
+                                                                                      "amplitude_scale")
+    points = continue_branch(problem, z0, lo, (lo, hi), z_scale=scale, options=options, progress=progress)
+    return _branch(problem, points, stability)
+
+
+#: ``condense="auto"`` condenses models with at least this many coordinates
+CONDENSE_FROM = 12
+
+
+def _harmonic_balance(system, condense, **options):
+    """The plain or the condensed harmonic balance of ``system`` (see ``condense`` in :func:`continuation`)."""
+    from ..periodic.condensed import CondensedHarmonicBalance, nonlinear_coordinates
+    from ..periodic.hb import HarmonicBalance
+
+    n = len(system.coordinate_names)
+    if isinstance(condense, str) and condense == "auto":
+        if n < CONDENSE_FROM:
+            return HarmonicBalance(system, **options)
+        kept = nonlinear_coordinates(system.model)
+        if not kept or len(kept) > n // 2:
+            return HarmonicBalance(system, **options)
+        return CondensedHarmonicBalance(system, coordinates=kept, **options)
+    if condense is False or condense is None:
+        return HarmonicBalance(system, **options)
+    if condense is True:
+        return CondensedHarmonicBalance(system, **options)
+    if isinstance(condense, str) or not all(isinstance(c, str) for c in condense):
+        raise ParameterError(f"condense={condense!r} is invalid: expected 'auto', True, False or coordinate names")
+    return CondensedHarmonicBalance(system, coordinates=tuple(condense), **options)
+
+
+def _start(start, hb):
+    try:
+        z = np.array(start, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("start is invalid: expected Fourier coefficients of shape (2H + 1, n)") from None
+    if z.shape != (2 * hb.harmonics + 1, hb.n):
+        raise ParameterError(f"start has shape {z.shape}: expected ({2 * hb.harmonics + 1}, {hb.n})")
+    kept = getattr(hb, "kept", None)
+    return (z if kept is None else z[:, kept]).ravel()
+
+
+def periodic_response(model_or_system, *, speeds, speed_parameter=None, harmonics=5, **options):
+    """The periodic response of a rotor over a range of its speed: :func:`continuation` in ``speed_parameter``.
+
+    Parameters
+    ----------
+    model_or_system : rotorkit.Model or rotorkit.System
+    speeds : (start, stop)
+        Speed range (rad/s, or quantities such as ``"3000 rpm"``).
+    speed_parameter : str, optional
+        ``<rotor>_speed`` (default: the first rotor's).
+    harmonics : int
+        ``H >= 1``.
+    **options
+        As for :func:`continuation` (``subharmonic``, ``stability``, ``samples``, ``tol``, ``max_points``, ...).
+
+    Returns
+    -------
+    rotorkit.periodic.branch.Branch
+    """
+    system = _system(model_or_system, options.pop("backend", "auto"))
+    speed_parameter = _speed_parameter(system, speed_parameter)
+    return continuation(system, speed_parameter, speeds, speed_parameter=speed_parameter, harmonics=harmonics,
+                        **options)
+
+
+def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, subharmonic=1, samples=None,
+                      start=None, stability="hill", tol=None, error_tol=None, max_harmonics=64, condense="auto",
+                      backend="auto", **values):
+    """One periodic solution at the model's parameters (``values``: some changed, SI), as a one-point Branch.
+
+    Parameters
+    ----------
+    harmonics : int
+        ``H >= 1`` (the first one tried when ``error_tol`` is given).
+    error_tol : float, optional
+        Raise ``H`` (by half, at least by 2, up to ``max_harmonics``) until the share of the highest
+        harmonic (:attr:`~rotorkit.periodic.branch.Branch.harmonic_share`) is below ``error_tol``; each
+        solve starts from the previous solution.
+    max_harmonics : int
+        Upper limit of ``H`` for ``error_tol``.
+    Other parameters as in :func:`continuation`; ``values``: parameter name -> value (SI).
+
+    Raises
+    ------
+    ConvergenceError
+        If Newton does not converge from ``start`` (default: zero, i.e. the linear response), or ``error_tol``
+        is not met with ``max_harmonics``.
+    """
+    if error_tol is not None:
+        error_tol = _positive(error_tol, "error_tol")
+        H = _count(harmonics, "harmonics", 1)
+        max_harmonics = _count(max_harmonics, "max_harmonics", H)
+        while True:
+            branch = periodic_solution(model_or_system, harmonics=H, speed_parameter=speed_parameter,
+                                       subharmonic=subharmonic, samples=None, start=start, stability=stability,
+                                       tol=tol, condense=condense, backend=backend, **values)
+            if branch.harmonic_share[0] <= error_tol:
+                return branch
+            if H >= max_harmonics:
+                raise ConvergenceError(f"the share of harmonic {H} is {branch.harmonic_share[0]:.3g} > error_tol="
+                                       f"{error_tol:g} with max_harmonics={max_harmonics}", residual=None)
+            new = min(max_harmonics, max(H + 2, int(1.5 * H)))
+            start = np.vstack([branch.coefficients[0], np.zeros((2 * (new - H), branch.coefficients.shape[2]))])
+            H = new
+    from ..periodic.continuation import BranchPoints, ContinuationProblem
+    from ..periodic.hb import DEFAULT_TOLERANCE, newton
+
+    system = _system(model_or_system, backend)
+    if values:
+        for name in values:
+            _check_parameter(system, name)
+        system = system.with_parameters(**values)
+    speed_parameter = _speed_parameter(system, speed_parameter)
+    if stability not in STABILITY_METHODS:
+        raise ParameterError(f"stability={stability!r} is unknown: expected one of {STABILITY_METHODS}")
+    tol = DEFAULT_TOLERANCE if tol is None else _positive(tol, "tol")
+    hb = _harmonic_balance(system, condense, speed_parameter=speed_parameter,
+                           harmonics=_count(harmonics, "harmonics", 1),
+                           subharmonic=_count(subharmonic, "subharmonic", 1), samples=samples)
+    problem = ContinuationProblem(hb, speed_parameter)
+    lam = system.parameters[speed_parameter]
+    frame = problem.frame(lam)
+    z0 = np.zeros(hb.size) if start is None else _start(start, hb)
+    z = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
+               max_iterations=50)[0]
+    points = BranchPoints(parameter=[lam], coefficients=[z], tangents=[np.zeros(hb.size + 1)], residuals=[0.0],
+                          reason="single solution")
+    return _branch(problem, points, stability)
+
+
+def _grazing_point(problem, lam, Z, i):
+    """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces: some contact
+    switch is active at some instant on one side and at none on the other).
+
+    Along each piece, from its two points nearest the corner, a secant iteration on the deepest penetration
+    (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap`) with a Newton solve at each new
+    parameter value (staying on that piece) drives the penetration to zero; the two pieces' values are
+    averaged (they agree to the iteration's accuracy; a piece with one point gives its value as it is).
+    """
+    estimates = []
+    for a, b in ((i - 1, i), (i + 2, i + 1)):
+        if not 0 <= a < len(lam):
+            estimates.append(float(lam[b]))
+            continue
+        estimates.append(_secant_to_grazing(problem, np.ravel(Z[a]), lam[a], np.ravel(Z[b]), lam[b]))
+    return float(np.mean(estimates))
+
+
+def _secant_to_grazing(problem, za, la, zb, lb, iterations=8):
+    """The parameter where the penetration along the piece through ``(za, la)`` and ``(zb, lb)`` is zero."""
+    from ..periodic.hb import newton
+
+    hb = problem.hb
+    ga, gb = problem.gap(za, la), problem.gap(zb, lb)
+    state = problem.contact_state(zb, lb)
+    size = max(abs(ga), abs(gb))
+    for _ in range(iterations):
+        if gb == ga or abs(gb) <= 1e-9 * size:
+            break
+        lc = lb - gb * (lb - la) / (gb - ga)
+        for _ in range(30):  # past the corner this piece has no solution: halve the step back towards lb
+            guess = zb + (zb - za) * ((lc - lb) / (lb - la) if lb != la else 0.0)
+            frame = problem.frame(lc)
+            try:
+                zc = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), guess, tol=1e-10,
+                            scale=frame.scale, max_iterations=20)[0]
+                gc = problem.gap(zc, lc)
+                if abs(gc) <= 1e-6 * size or np.array_equal(problem.contact_state(zc, lc), state):
+                    break  # still on this piece
+            except ConvergenceError:
+                pass
+            lc = lb + 0.5 * (lc - lb)
+        else:
+            break
+        za, la, ga, zb, lb, gb = zb, lb, gb, zc, lc, gc
+    return float(lb - gb * (lb - la) / (gb - ga)) if gb != ga else float(lb)
+
+
+def _turning_point(lam, Z, i):
+    """The parameter at the turning point between points ``i`` and ``i + 1``: the vertex of the parabola
+    ``lambda(s)`` through the three points around it (``s`` the arclength in amplitudes over their largest
+    value and the parameter over its range), else the farther of the two."""
+    farther = max(lam[i], lam[i + 1]) if lam[i] >= lam[max(i - 1, 0)] else min(lam[i], lam[i + 1])
+    j = [k for k in (i - 1, i, i + 1, i + 2) if 0 <= k < len(lam)]
+    if len(j) < 3:
+        return float(farther)
+    j = j[:3] if abs(lam[j[1]] - farther) < abs(lam[j[-2]] - farther) or len(j) == 3 else j[1:]
+    width = float(np.ptp(lam)) or 1.0
+    size = float(np.max(np.abs(Z))) or 1.0
+    steps = [np.sqrt(np.sum(((Z[b] - Z[a]) / size) ** 2) + ((lam[b] - lam[a]) / width) ** 2)
+             for a, b in zip(j, j[1:])]
+    s = np.concatenate([[0.0], np.cumsum(steps)])
+    a, b, c = np.polyfit(s, lam[j], 2)
+    if a == 0.0:
+        return float(farther)
+    vertex = c - b * b / (4.0 * a)
+    low, high = min(lam[j]), max(lam[j])
+    return float(vertex) if low - (high - low) <= vertex <= high + (high - low) else float(farther)
+
+
+def _branch(problem, points, stability):
+    """The :class:`Branch` of the raw continuation output: error estimates, stability and bifurcations."""
+    from ..periodic.branch import Bifurcation, Branch
+    from ..periodic.stability import classify_crossing, hill_multipliers, is_stable, monodromy_multipliers
+
+    hb = problem.hb
+    full = getattr(hb, "full", hb)  # the condensed problem's full harmonic balance
+    n, H = hb.n, hb.harmonics
+    lam = np.array(points.parameter, dtype=float)
+    raw = [np.asarray(z) for z in points.coefficients]
+    if full is not hb:
+        Z = np.array([hb.expand(z, problem.frame(v)) for z, v in zip(raw, lam)]).reshape(len(lam), 2 * H + 1, n)
+    else:
+        Z = np.array(raw).reshape(len(lam), 2 * H + 1, n)
+    omega, errors, shares, multipliers = [], [], [], []
+    for value, z in zip(lam, Z):
+        frame = problem.frame(value)
+        omega.append(frame.omega)
+        r = full.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
+        errors.append(float(np.max(np.abs(r))) / frame.scale)
+        amplitudes = np.hypot(z[1::2], z[2::2])
+        top = float(np.max(amplitudes)) if amplitudes.size else 0.0
+        shares.append(float(np.max(amplitudes[-1])) / top if top > 0 else 0.0)
+        if stability == "hill":
+            multipliers.append(hill_multipliers(full, z.ravel(), frame))
+        elif stability == "monodromy":
+            multipliers.append(monodromy_multipliers(full, z.ravel(), frame)[0])
+    mu = np.array(multipliers) if multipliers else None
+    stable = np.array([is_stable(m) for m in mu]) if mu is not None else None
+    bifurcations = []
+    tangents = np.array(points.tangents)
+    for i in range(len(lam) - 1):
+        if tangents[i, -1] * tangents[i + 1, -1] < 0:
+            grazing = hb.contact and not np.array_equal(problem.contact_state(raw[i], lam[i]),
+                                                         problem.contact_state(raw[i + 1], lam[i + 1]))
+            extreme = _grazing_point(problem, lam, raw, i) if grazing else _turning_point(lam, Z, i)
+            bifurcations.append(Bifurcation("grazing fold" if grazing else "fold", i,
+                                            extreme))
+        if mu is not None:
+            kind = classify_crossing(mu[i], mu[i + 1])
+            if kind in ("period doubling", "Neimark-Sacker"):
+                a = np.max(np.abs(mu[i])) - 1.0
+                b = np.max(np.abs(mu[i + 1])) - 1.0
+                w = a / (a - b) if a != b else 0.5
+                bifurcations.append(Bifurcation(kind, i, float(lam[i] + w * (lam[i + 1] - lam[i]))))
+    return Branch(
+        parameter_name=problem.parameter, parameter=lam, coefficients=Z, omega=np.array(omega),
+        coordinate_names=hb.coordinate_names, speed_parameter=hb.speed_parameter, harmonics=H,
+        subharmonic=hb.subharmonic, samples=hb.samples, multipliers=mu, stable=stable,
+        bifurcations=tuple(bifurcations), residual_error=np.array(errors), harmonic_share=np.array(shares),
+        reason=points.reason, stability_method=stability,
+    )

@@ -1,0 +1,287 @@
+"""Pseudo-arclength continuation of harmonic-balance solutions in one parameter, through folds and grazing corners.
+
+The unknowns ``u = (z / z_s, lambda / l_s)`` are scaled (``z_s`` a typical
+amplitude in m or rad, ``l_s`` the width of the parameter range). From a
+solution ``u_0`` with unit tangent ``t_0`` a step of length ``h`` predicts
+``u_0 + h t_0``; the corrector solves ``R(u) = 0`` on the hyperplane through
+the prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`).
+The step grows by 1.5 after an easy correction (<= 3 iterations), shrinks
+after a hard one, and halves after a failure, down to ``min_step``. A
+corrected point farther than ``h`` from its prediction counts as a failure
+(it jumped to another part of the branch).
+
+Smooth folds need nothing more: the tangent, from the bordered system
+``[dR/du; t_0^T] t = [0; 1]``, keeps its orientation through them.
+
+Grazing corners: where an orbit just touches a stator all its contact
+samples switch at once and the branch may turn back at an angle (the contact
+and no-contact pieces meet at the grazing orbit with different tangents).
+The step then fails whatever its length. When a failing prediction lies on
+the other side of a grazing than ``u_0`` (a contact switch,
+:meth:`rotorkit.System.switch_values`, positive at some AFT sample on one
+side and at none on the other), the tangent
+of the other piece is taken from the Jacobian at the prediction (the
+analytic Jacobian there is the other side's), oriented so that it moves
+into the other side as ``t_0`` did, and the step is tried along it.
+
+The derivative of the residual with respect to the parameter is a central
+difference (the parameter enters through the base frequency, the forcing
+and the matrices); the Jacobian with respect to the unknowns is the
+analytic AFT one.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError
+from .errors import ConvergenceError
+from .hb import newton
+
+__all__ = ["ContinuationProblem", "ContinuationOptions", "continue_branch", "BranchPoints"]
+
+
+class ContinuationProblem:
+    """The harmonic-balance residual as a function of ``(z, lambda)``, ``lambda`` a model parameter.
+
+    Parameters
+    ----------
+    hb : rotorkit.periodic.hb.HarmonicBalance
+    parameter : str
+        The continuation parameter (a name of ``hb.system.parameters``).
+    """
+
+    def __init__(self, hb, parameter):
+        if parameter not in hb.system.parameters:
+            import difflib
+
+            near = difflib.get_close_matches(parameter, list(hb.system.parameters), n=3)
+            hint = f" (did you mean {', '.join(near)}?)" if near else ""
+            raise ParameterError(f"parameter={parameter!r} is not a parameter of {hb.system.name!r}{hint}: "
+                                 f"expected one of {', '.join(sorted(hb.system.parameters))}")
+        self.hb = hb
+        self.parameter = parameter
+        self._frames = {}
+
+    def frame(self, lam):
+        """The :class:`~rotorkit.periodic.hb.Frame` at ``parameter = lam`` (a few kept)."""
+        lam = float(lam)
+        found = self._frames.get(lam)
+        if found is None:
+            if len(self._frames) >= 16:
+                self._frames.pop(next(iter(self._frames)))
+            found = self._frames[lam] = self.hb.frame({self.parameter: lam})
+        return found
+
+    def residual(self, z, lam, jacobian=True):
+        return self.hb.residual(z, self.frame(lam), jacobian=jacobian)
+
+    def parameter_derivative(self, z, lam, step):
+        """``dR/dlambda`` by a forward difference of step ``step``."""
+        plus = self.residual(z, lam + step, jacobian=False)[0]
+        return (plus - self.residual(z, lam, jacobian=False)[0]) / step
+
+    def contact_state(self, z, lam):
+        """Per contact switch: whether it is in contact (switch function > 0) at any AFT sample, shape
+        (n_switches,). A change of this state is a grazing: an orbit entering or leaving a contact."""
+        frame = self.frame(lam)
+        return np.any(frame.switches(self.hb.states(z, frame)) > 0.0, axis=0)
+
+    def gap(self, z, lam):
+        """Largest sampled switch value (m for a rub: the deepest penetration, negative when clear)."""
+        frame = self.frame(lam)
+        values = frame.switches(self.hb.states(z, frame))
+        return float(np.max(values)) if values.size else 0.0
+
+
+@dataclass
+class ContinuationOptions:
+    """Step control of :func:`continue_branch` (steps in scaled arclength, see the module notes)."""
+
+    step: float = 0.02
+    min_step: float = 1e-6
+    max_step: float = 0.1
+    max_points: int = 500
+    tol: float = 1e-10
+    max_iterations: int = 12
+
+
+@dataclass
+class BranchPoints:
+    """Raw output of :func:`continue_branch`: solutions in order along the branch and why it stopped."""
+
+    parameter: list = field(default_factory=list)
+    coefficients: list = field(default_factory=list)
+    tangents: list = field(default_factory=list)
+    residuals: list = field(default_factory=list)
+    corners: list = field(default_factory=list)  # indices of points reached through a grazing corner
+    reason: str = ""
+
+
+def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progress=None):
+    """Follow the branch through ``(z0, lam0)`` towards the upper bound until it leaves ``bounds``.
+
+    Parameters
+    ----------
+    problem : ContinuationProblem
+    z0 : numpy.ndarray, shape (size,)
+        A solution at ``lam0`` (converged).
+    lam0 : float
+    bounds : (float, float)
+        ``(start, stop)``; the branch starts towards ``stop``.
+    z_scale : float
+        Typical amplitude (m, rad) of the unknowns.
+    options : ContinuationOptions, optional
+    progress : callable, optional
+        ``progress(count, lam)`` after each point.
+
+    Returns
+    -------
+    BranchPoints
+        The points (the start included) and the reason the branch stopped.
+    """
+    opts = options or ContinuationOptions()
+    start, stop = (float(b) for b in bounds)
+    lo, hi = min(start, stop), max(start, stop)
+    l_scale = abs(stop - start)
+    scales = np.concatenate([np.full(len(z0), z_scale), [l_scale]])
+    d_lam = 1e-7 * max(l_scale, abs(lam0))
+    out = BranchPoints()
+
+    def unscale(u):
+        x = u * scales
+        return x[:-1], float(x[-1])
+
+    def augmented(u, jacobian):
+        z, lam = unscale(u)
+        R, Jz = problem.residual(z, lam, jacobian=jacobian)
+        return R, Jz, z, lam
+
+    def full_jacobian(u):
+        z, lam = unscale(u)
+        R, Jz = problem.residual(z, lam)
+        return np.hstack([Jz * z_scale, problem.parameter_derivative(z, lam, d_lam)[:, None] * l_scale])
+
+    def tangent(A, reference):
+        t = np.linalg.solve(np.vstack([A, reference[None, :]]), np.concatenate([np.zeros(A.shape[0]), [1.0]]))
+        return t / np.linalg.norm(t)
+
+    def correct(u_pred, t):
+        """Newton on the hyperplane normal to ``t`` through ``u_pred``; dR/dlambda frozen at the prediction."""
+        zp, lp = unscale(u_pred)
+        scale = problem.frame(lp).scale
+        column = problem.parameter_derivative(zp, lp, d_lam)[:, None] * l_scale
+
+        def fun(u, jacobian):
+            R, Jz, z, lam = augmented(u, jacobian)
+            F = np.append(R, scale * float(t @ (u - u_pred)))
+            if not jacobian:
+                return F, None
+            return F, np.vstack([np.hstack([Jz * z_scale, column]), scale * t[None, :]])
+
+        u, iterations, norm, J = newton(fun, u_pred, tol=opts.tol, scale=scale, max_iterations=opts.max_iterations,
+                                        what="continuation corrector")
+        return u, iterations, norm, J[:-1]
+
+    u0 = np.append(z0 / z_scale, lam0 / l_scale)
+    direction = 1.0 if stop >= start else -1.0
+    t0 = tangent(full_jacobian(u0), np.append(np.zeros(len(z0)), direction))
+    if t0[-1] * direction < 0:
+        t0 = -t0
+    out.parameter.append(lam0)
+    out.coefficients.append(np.array(z0))
+    out.tangents.append(t0 * scales)
+    out.residuals.append(0.0)
+    h = opts.step
+    while True:
+        if len(out.parameter) >= opts.max_points:
+            out.reason = f"point budget of {opts.max_points} points reached"
+            return out
+        accepted = None
+        try:
+            u1, iterations, norm, A1 = correct(u0 + h * t0, t0)
+            if np.linalg.norm(u1 - (u0 + h * t0)) <= h:
+                t1 = tangent(A1, t0)
+                if float(t1 @ t0) > 0.7 or h <= 4.0 * opts.min_step:
+                    accepted = (u1, t1, iterations, norm, False)
+        except (ConvergenceError, np.linalg.LinAlgError):
+            pass
+        if accepted is None and problem.hb.contact:
+            accepted = _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct)
+        if accepted is None:
+            h *= 0.5
+            if h < opts.min_step:
+                z, lam = unscale(u0)
+                out.reason = (f"no convergence at the minimum step {opts.min_step:g} at {problem.parameter}="
+                              f"{lam:.6g} (a branch point or a non-smooth point the corner rule does not pass)")
+                return out
+            continue
+        u1, t1, iterations, norm, corner = accepted
+        z1, lam1 = unscale(u1)
+        if lam1 > hi or lam1 < lo:
+            bound = hi if lam1 > hi else lo
+            z_end = _at_bound(problem, unscale(u0), (z1, lam1), bound, opts)
+            if z_end is not None:
+                out.parameter.append(bound)
+                out.coefficients.append(z_end)
+                out.tangents.append(t1 * scales)
+                out.residuals.append(float(np.max(np.abs(problem.residual(z_end, bound, False)[0])))
+                                     / problem.frame(bound).scale)
+            out.reason = f"parameter bound {problem.parameter}={bound:g} reached"
+            return out
+        out.parameter.append(lam1)
+        out.coefficients.append(z1)
+        out.tangents.append(t1 * scales)
+        out.residuals.append(norm)
+        if corner:
+            out.corners.append(len(out.parameter) - 1)
+        if progress is not None:
+            progress(len(out.parameter), lam1)
+        u0, t0 = u1, t1
+        h = min(opts.max_step, h * 1.5) if iterations <= 3 else (h * 0.6 if iterations >= 7 else h)
+
+
+def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
+    """A step along the other piece's tangent when the prediction crosses a contact switch (None if not)."""
+    u_pred = u0 + h * t0
+    z0, lam0 = unscale(u0)
+    zp, lamp = unscale(u_pred)
+    if np.array_equal(problem.contact_state(z0, lam0), problem.contact_state(zp, lamp)):
+        return None
+    try:
+        t1 = tangent(full_jacobian(u_pred), t0)
+    except np.linalg.LinAlgError:
+        return None
+    g0 = problem.gap(z0, lam0)
+    into = problem.gap(zp, lamp) - g0
+    along = problem.gap(*unscale(u0 + h * t1)) - g0
+    if along * into < 0:
+        t1 = -t1
+    try:
+        u1, iterations, norm, A1 = correct(u0 + h * t1, t1)
+    except (ConvergenceError, np.linalg.LinAlgError):
+        return None
+    if np.linalg.norm(u1 - (u0 + h * t1)) > h:
+        return None
+    z1, lam1 = unscale(u1)
+    if np.array_equal(problem.contact_state(z1, lam1), problem.contact_state(z0, lam0)):
+        return None  # back on the piece it came from
+    t_new = tangent(A1, t1)
+    return u1, t_new, iterations, norm, True
+
+
+def _at_bound(problem, before, after, bound, opts):
+    """The solution at ``lambda = bound`` from the two points either side of it (linear interpolation, Newton)."""
+    (za, la), (zb, lb) = before, after
+    w = 0.0 if lb == la else (bound - la) / (lb - la)
+    guess = za + w * (zb - za)
+    frame = problem.frame(bound)
+    try:
+        z = newton(lambda z, jac: problem.hb.residual(z, frame, jacobian=jac), guess, tol=opts.tol,
+                         scale=frame.scale, max_iterations=opts.max_iterations, what="solution at the bound")[0]
+    except ConvergenceError:
+        return None
+    return z if math.isfinite(float(np.max(np.abs(z)))) else None

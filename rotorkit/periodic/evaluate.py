@@ -1,0 +1,131 @@
+"""Right-hand side, analytic Jacobian and contact switches of a compiled system at many instants and parameter sets.
+
+Harmonic balance evaluates the equations at the ``N`` instants of a period,
+and continuation at a new parameter value every Newton iteration. With the
+``c`` back end the generated Jacobian module (it holds ``rhs``, ``jac``,
+``switches`` and ``prepare``, :func:`rotorkit.system.jacobian_module`) is
+called through its C function addresses, and a new parameter value only
+re-runs its ``prepare`` (microseconds, no new :class:`~rotorkit.System`).
+Other back ends go through :meth:`rotorkit.System.with_parameters` and the
+system's own methods.
+"""
+
+from __future__ import annotations
+
+import ctypes
+
+import numpy as np
+
+__all__ = ["Evaluator"]
+
+_C_SIGNATURE = ctypes.CFUNCTYPE(None, ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+
+
+#: one C call for all rows: ``f(times[j], Y[j], p, out[j])`` for j < rows (``out`` zeroed first: jac adds to it)
+_BATCH_SOURCE = """
+typedef void (*model_function)(double, const double *, const double *, double *);
+void rotorkit_batch(model_function f, long rows, const double *times, const double *Y, long ny,
+                    const double *p, double *out, long nout) {
+    for (long j = 0; j < rows; ++j) {
+        for (long k = 0; k < nout; ++k) out[j * nout + k] = 0.0;
+        f(times[j], Y + j * ny, p, out + j * nout);
+    }
+}
+"""
+_BATCH = []
+
+
+def _batch_function():
+    """The C row loop (built once per cache), or None without a compiler (a Python loop then)."""
+    if not _BATCH:
+        try:
+            from ..codegen import cache, cbuild
+
+            library = cbuild.library(cache.shared_dir("periodic_batch"), "periodic_batch", _BATCH_SOURCE)
+            function = library.rotorkit_batch
+            function.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long,
+                                 ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long)
+            function.restype = None
+            _BATCH.append((library, function))
+        except Exception:  # noqa: BLE001 - no compiler or no cache: the Python loop does the same
+            _BATCH.append(None)
+    return _BATCH[0][1] if _BATCH[0] else None
+
+
+def _c_loop(function, prepared, times, Y, width):
+    Y = np.ascontiguousarray(Y, dtype=float)
+    rows = Y.shape[0]
+    out = np.zeros((rows, width))
+    times = np.ascontiguousarray(np.broadcast_to(times, (rows,)), dtype=float)
+    batch = _batch_function()
+    if batch is not None:
+        address = ctypes.cast(function, ctypes.c_void_p).value
+        batch(address, rows, times.ctypes.data, Y.ctypes.data, Y.shape[1], prepared.ctypes.data, out.ctypes.data,
+              width)
+        return out
+    ry, ro = Y.shape[1] * 8, width * 8
+    y0, o0, p = Y.ctypes.data, out.ctypes.data, prepared.ctypes.data
+    for j, t in enumerate(times.tolist()):
+        function(t, y0 + j * ry, p, o0 + j * ro)
+    return out
+
+
+class Evaluator:
+    """Batch evaluations of a system's equations at parameter sets given as ``{name: value}``.
+
+    Parameters
+    ----------
+    system : rotorkit.System
+    """
+
+    def __init__(self, system):
+        self.system = system
+        self.n_states = system.n_states
+        self.n_switches = system.n_switches
+        self.fast = system.backend == "c"
+        if self.fast:
+            from ..codegen.cmodel import c_functions
+            from ..system import jacobian_module
+
+            self._module = module = jacobian_module(system.model, "unrolled")  # c covers unrolled code only
+            functions = c_functions(module)
+            self._functions = {name: _C_SIGNATURE(f.address) for name, f in functions.items()}
+            self._window = np.array(system.prepared_parameters[-2:], dtype=float)
+
+    def point(self, values):
+        """An opaque handle of the equations at the system's parameters updated with ``values`` (SI)."""
+        if not self.fast:
+            return self.system.with_parameters(**values) if values else self.system
+        merged = self.system.parameters
+        merged.update(values)
+        module = self._module
+        p = np.array([merged[name] for name in module.PARAMETER_NAMES], dtype=float)
+        with np.errstate(all="ignore"):
+            prepared = module.prepare(p, np.empty(module.N_PREPARED))
+        prepared = np.ascontiguousarray(prepared, dtype=float)
+        prepared[-2:] = self._window
+        return prepared
+
+    def rhs(self, point, times, Y):
+        """``dy/dt`` at each row of ``Y`` (m, 2n) and time in ``times`` (s): shape (m, 2n)."""
+        if self.fast:
+            return _c_loop(self._functions["rhs"], point, times, Y, self.n_states)
+        times = np.broadcast_to(times, (len(Y),))
+        return np.array([point.rhs(t, y) for t, y in zip(times.tolist(), Y)])
+
+    def jacobian(self, point, times, Y):
+        """The analytic ``d(dy/dt)/dy`` at each row: shape (m, 2n, 2n)."""
+        m = self.n_states
+        if self.fast:
+            return _c_loop(self._functions["jac"], point, times, Y, m * m).reshape(-1, m, m)
+        times = np.broadcast_to(times, (len(Y),))
+        return np.array([point.jacobian(t, y) for t, y in zip(times.tolist(), Y)])
+
+    def switches(self, point, times, Y):
+        """The contact switch functions at each row: shape (m, n_switches)."""
+        if not self.n_switches:
+            return np.zeros((len(Y), 0))
+        if self.fast:
+            return _c_loop(self._functions["switches"], point, times, Y, self.n_switches)
+        times = np.broadcast_to(times, (len(Y),))
+        return np.array([point.switch_values(t, y) for t, y in zip(times.tolist(), Y)])
