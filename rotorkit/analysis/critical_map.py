@@ -61,10 +61,12 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
         The rotor without (or with, as a baseline) the supports being varied.
     supports : sequence of station
         Stations whose ``x`` and ``y`` support stiffness is ``k``.
-    stiffnesses : array_like, shape (n_k,)
-        Support stiffness values (N/m), positive (log-spaced for a log-log map).
-    speed_range : (float, float)
-        Swept speed range (rad/s) searched for 1x crossings.
+    stiffnesses : array_like or pint.Quantity, shape (n_k,)
+        Support stiffness values (N/m, or with a unit: ``Q_(k, "N/mm")``),
+        positive (log-spaced for a log-log map).
+    speed_range : (float, float), pint.Quantity or (str, str)
+        Swept speed range (rad/s, or with a unit: ``("0 rpm", "20000 rpm")``)
+        searched for 1x crossings.
     n_critical : int
         Number of critical speeds kept per whirl direction.
     n_speeds : int
@@ -82,13 +84,15 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
 
     if not isinstance(rotor, LinearModel):
         raise TypeError(f"critical_speed_map: expected a LinearModel, got {type(rotor).__name__}")
-    k = np.array(stiffnesses, dtype=float).reshape(-1)
+    from ..units import to_si_array
+
+    k = to_si_array(stiffnesses, "N/m", "stiffnesses").reshape(-1)
     if k.size == 0 or not np.all(np.isfinite(k)) or np.any(k <= 0):
         raise ParameterError(f"stiffnesses={stiffnesses!r} is invalid: expected positive stiffnesses (N/m)")
-    try:
-        lo, hi = (float(v) for v in speed_range)
-    except (TypeError, ValueError):
-        raise ParameterError(f"speed_range={speed_range!r} is invalid: expected (low, high) in rad/s") from None
+    bounds = to_si_array(speed_range, "rad/s", "speed_range")
+    if bounds.shape != (2,):
+        raise ParameterError(f"speed_range={speed_range!r} is invalid: expected (low, high) in rad/s")
+    lo, hi = (float(v) for v in bounds)
     if not 0 <= lo < hi:
         raise ParameterError(f"speed_range={speed_range!r} is invalid: expected 0 <= low < high (rad/s)")
     stations = tuple(str(s) for s in supports)

@@ -292,6 +292,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     from scipy import linalg
 
     n = len(names)
+    n_modes = _check_count(n_modes)
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
         eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
     elif left:
@@ -303,7 +304,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     Y = None
     if wl is not None:  # the lower half of a left state vector is M^H y (y: left coordinate vector)
         Y = np.linalg.solve(Mm.conj().T, wl[n:]) if mass is not None else wl[n:]
-    return _modes(eigenvalues, vr[:n], Y, names, Mm, Mm @ -A[n:, n:], fields)
+    return _modes(eigenvalues, vr[:n], Y, names, Mm, Mm @ -A[n:, n:], fields, n_modes)
 
 
 def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=None, **fields):
@@ -330,13 +331,14 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
         Further :class:`Modes` fields.
     """
     n = len(names)
+    n_modes = _check_count(n_modes)
     dense = [np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
              for A in (mass, damping, stiffness)]
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
         solved = _lowest_pencil_eigenpairs(mass, damping, stiffness, int(n_modes), left)
         if solved is not None:
             eigenvalues, X, Y = solved
-            return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields)
+            return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields, n_modes)
     from scipy.linalg import lu_factor, lu_solve
 
     M, C, K = dense
@@ -345,11 +347,23 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
     A[:n, n:] = np.eye(n)
     A[n:, :n] = -lu_solve(lu, K)
     A[n:, n:] = -lu_solve(lu, C)
-    return modes_from_state_matrix(A, names, mass=M, left=left, **fields)
+    return modes_from_state_matrix(A, names, mass=M, left=left, n_modes=n_modes, **fields)
 
 
-def _modes(eigenvalues, X, Y, names, M, C, fields):
-    """:class:`Modes` from eigenvalues with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``."""
+def _check_count(n_modes):
+    if n_modes is None:
+        return None
+    if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
+        raise ParameterError(f"n_modes={n_modes!r} is invalid: expected an integer >= 1 or None (all modes)")
+    return int(n_modes)
+
+
+def _modes(eigenvalues, X, Y, names, M, C, fields, n_modes=None):
+    """:class:`Modes` from eigenvalues with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``.
+
+    ``n_modes``: keep the lowest ``n_modes`` oscillatory modes (the sparse
+    solvers compute a few more to converge, and the dense one all of them).
+    """
     n = len(names)
     keep = eigenvalues.imag > OSCILLATORY_RTOL * np.abs(eigenvalues)
     lam = eigenvalues[keep]
@@ -357,6 +371,8 @@ def _modes(eigenvalues, X, Y, names, M, C, fields):
     lam = lam[order]
     vec = X[:, keep][:, order].copy()
     vec = _circularise_pairs(lam, vec, names)
+    if n_modes is not None:  # after the circular combinations, which need both members of a double root
+        order, lam, vec = order[:n_modes], lam[:n_modes], vec[:, :n_modes]
     k = lam.size
     shapes = np.empty((n, k), dtype=complex)
     for i in range(k):

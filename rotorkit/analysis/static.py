@@ -125,7 +125,7 @@ def static_deflection(system, t=0.0, **equilibrium):
     Parameters
     ----------
     system : rotorkit.System
-    t : float
+    t : float, str or pint.Quantity
         Time (s) of the load (a manoeuvre's load at that instant; gravity).
     **equilibrium
         Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`.
@@ -149,7 +149,10 @@ def static_deflection(system, t=0.0, **equilibrium):
     from ..model import Context
     from ..symbolic.lagrange import Symbols
 
+    from ..units import to_si
+
     _check_system(system, "static_deflection")
+    t = to_si(t, "s", "t")
     q = static_equilibrium(system, t, **equilibrium)
     names = tuple(system.coordinate_names)
     model = system.model

@@ -19,8 +19,6 @@ is ``arg Q`` and the phase lag behind the unbalance is ``phi - arg Q``
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,20 +31,24 @@ __all__ = ["Unbalance", "UnbalanceResponse", "unbalance_response"]
 
 @dataclass(frozen=True, slots=True)
 class Unbalance:
-    """An unbalance ``magnitude`` (kg m) at ``station``, at ``angle`` (rad) from x at t = 0."""
+    """An unbalance ``magnitude`` (kg m) at ``station``, at ``angle`` (rad) from x at t = 0.
+
+    Both accept SI floats, pint quantities or strings: ``Unbalance(station=2,
+    magnitude="100 g*mm", angle="90 deg")`` (stored in kg m and rad).
+    """
 
     station: object
     magnitude: float
     angle: float = 0.0
 
     def __post_init__(self):
-        for name in ("magnitude", "angle"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
-                raise ParameterError(f"Unbalance {name}={v!r} is invalid: expected a finite number "
-                                     f"({'kg m' if name == 'magnitude' else 'rad'})")
-        if self.magnitude < 0:
+        from ..units import to_si
+
+        magnitude = to_si(self.magnitude, "kg*m", "Unbalance magnitude")
+        if magnitude < 0:
             raise ParameterError(f"Unbalance magnitude={self.magnitude!r} is invalid: expected >= 0 (kg m)")
+        object.__setattr__(self, "magnitude", magnitude)
+        object.__setattr__(self, "angle", to_si(self.angle, "rad", "Unbalance angle"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -165,9 +167,11 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
         A system is linearised first (:func:`~rotorkit.analysis.linear_model.linear_model`
         with ``**linearisation``: speed, speed_parameter, ...).
     unbalances : Unbalance or sequence of Unbalance or (station, magnitude, angle)
-        Magnitudes in kg m, angles in rad; each belongs to its station's rotor.
-    speeds : array_like, shape (n_speeds,)
-        Swept speed (rad/s).
+        Magnitudes in kg m, angles in rad (or quantities, ``"100 g*mm"``);
+        each belongs to its station's rotor.
+    speeds : array_like, pint.Quantity or sequence of str, shape (n_speeds,)
+        Swept speed: rad/s as plain numbers, or with a unit
+        (``Q_(np.linspace(0, 15000, 301), "rpm")``).
     method : {"auto", "banded", "dense"}
         See :mod:`rotorkit.analysis.harmonic`.
 
@@ -188,15 +192,18 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
     from .harmonic import solve_harmonic
     from .linear_model import LinearModel, linear_model
 
+    from ..units import to_si_array
+
     if not isinstance(model, LinearModel):
+        if linearisation.get("speed") is not None:
+            from ..units import to_si
+
+            linearisation["speed"] = to_si(linearisation["speed"], "rad/s", "speed")
         model = linear_model(model, **linearisation)
     elif linearisation:
         raise TypeError(f"unbalance_response: unexpected keywords {sorted(linearisation)} for a LinearModel")
     items = _unbalances(unbalances)
-    try:
-        W = np.array(speeds, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"speeds={speeds!r} is invalid: expected speeds (rad/s)") from exc
+    W = to_si_array(speeds, "rad/s", "speeds").reshape(-1)
     if W.size == 0 or not np.all(np.isfinite(W)):
         raise ParameterError("speeds is empty or not finite: expected finite speeds (rad/s)")
     if method not in ("auto", "banded", "dense"):

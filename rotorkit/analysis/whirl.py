@@ -78,9 +78,26 @@ class Orbit:
         return u * np.cos(th) - v * np.sin(th), u * np.sin(th) + v * np.cos(th)
 
 
+def _amplitudes(X, Y):
+    """``X``, ``Y`` as complex arrays in SI units: pint quantities of one dimension are converted (µm -> m)."""
+    from ..units import _is_quantity
+
+    if _is_quantity(X) or _is_quantity(Y):
+        from ..errors import UnitError
+
+        if not (_is_quantity(X) and _is_quantity(Y)) or X.dimensionality != Y.dimensionality:
+            raise UnitError(f"orbit: X = {X!r} and Y = {Y!r} must be quantities of one dimension (or both numbers)")
+        X, Y = X.to_base_units().magnitude, Y.to_base_units().magnitude
+    return np.asarray(X, dtype=complex), np.asarray(Y, dtype=complex)
+
+
 def orbit(X, Y):
-    """The :class:`Orbit` of complex amplitudes ``X``, ``Y`` (arrays broadcast)."""
-    X, Y = np.asarray(X, dtype=complex), np.asarray(Y, dtype=complex)
+    """The :class:`Orbit` of complex amplitudes ``X``, ``Y`` (arrays broadcast).
+
+    Numbers (m, rad, or relative for a mode shape) or pint quantities of one
+    dimension, converted to SI (the orbit is then in m or rad).
+    """
+    X, Y = _amplitudes(X, Y)
     F = (X + 1j * Y) / 2.0
     B = np.conj(X - 1j * Y) / 2.0
     f, b = np.abs(F), np.abs(B)
