@@ -28,7 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .modal import frequency_factor
+from .modal import frequency_factor, unit_slug
+from .tables import csv_output
 
 __all__ = ["Campbell", "CriticalSpeed", "InstabilityOnset", "campbell", "mac", "neutral_tolerance"]
 
@@ -200,10 +201,19 @@ class Campbell:
                              f"({o.whirl}, {o.frequency * f:.6g} {units})")
         return "\n".join(lines)
 
-    def to_csv(self, units="rad/s"):
-        """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl."""
+    def to_csv(self, path=None, *, units="rad/s"):
+        """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            Where to write; None returns the text.
+        units : str
+            Speed and frequency units (``"rad/s"``, ``"Hz"``, ``"rpm"``, ...);
+            the column names carry them.
+        """
         f = frequency_factor(units)
-        u = {"rad/s": "rad_s", "Hz": "Hz", "rpm": "rpm"}[units]
+        u = unit_slug(units)
         cols = [f"{self.speed_parameter}_{u}"] + [f"{r}_spin_{u}" for r in self.rotor_speeds]
         for k in range(self.n_modes):
             cols += [f"mode{k + 1}_frequency_{u}", f"mode{k + 1}_log_decrement", f"mode{k + 1}_whirl"]
@@ -214,7 +224,28 @@ class Campbell:
                 vals += [f"{self.frequencies[i, k] * f:.10g}", f"{self.log_decrements[i, k]:.10g}",
                          str(self.whirl[i, k])]
             rows.append(",".join(vals))
-        return "\n".join(rows) + "\n"
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_xarray(self, units="rad/s"):
+        """The diagram as an :class:`xarray.Dataset` over (speed, mode), CF-style ``units``/``long_name``."""
+        import xarray as xr
+
+        f = frequency_factor(units)
+        speed = xr.Variable("speed", self.speeds * f, {"units": units, "long_name": self.speed_parameter})
+        modes = np.arange(1, self.n_modes + 1)
+        data = {
+            "frequency": (("speed", "mode"), self.frequencies * f,
+                          {"units": units, "long_name": "damped natural frequency"}),
+            "natural_frequency": (("speed", "mode"), self.natural_frequencies * f,
+                                  {"units": units, "long_name": "natural frequency |lambda|"}),
+            "damping_ratio": (("speed", "mode"), np.asarray(self.damping_ratios), {"units": "1"}),
+            "log_decrement": (("speed", "mode"), np.asarray(self.log_decrements),
+                              {"units": "1", "long_name": "logarithmic decrement"}),
+            "whirl": (("speed", "mode"), np.asarray(self.whirl, dtype=str)),
+        }
+        for rotor, line in self.rotor_speeds.items():
+            data[f"{rotor}_spin"] = ("speed", line * f, {"units": units, "long_name": f"spin speed of {rotor}"})
+        return xr.Dataset(data, coords={"speed": speed, "mode": modes})
 
     def plot(self, ax=None, **kwargs):
         """Draw the Campbell diagram (:func:`rotorkit.plotting.campbell.plot_campbell`); returns the Axes."""

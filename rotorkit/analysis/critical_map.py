@@ -44,6 +44,36 @@ class CriticalSpeedMap:
     supports: tuple
     bearing_curves: dict
 
+    def to_csv(self, path=None, *, units="rad/s"):
+        """One row per support stiffness (N/m): the forward then the backward critical speeds in ``units``."""
+        from ..units import display_factor
+        from .modal import unit_slug
+        from .tables import csv_output
+
+        f, u = display_factor(units, "speed"), unit_slug(units)
+        n = self.speeds.shape[1]
+        cols = ["stiffness_N_m"] + [f"forward{j + 1}_{u}" for j in range(n)] + [f"backward{j + 1}_{u}"
+                                                                                 for j in range(n)]
+        rows = [",".join(cols)]
+        for a, k in enumerate(self.stiffnesses):
+            rows.append(",".join(f"{v:.10g}" for v in (k, *(self.speeds[a] * f), *(self.backward[a] * f))))
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_xarray(self, units="rad/s"):
+        """The map as an :class:`xarray.Dataset` over (stiffness, critical)."""
+        import xarray as xr
+
+        from ..units import display_factor
+
+        f = display_factor(units, "speed")
+        coords = {"stiffness": ("stiffness", self.stiffnesses, {"units": "N/m", "long_name": "support stiffness"}),
+                  "critical": np.arange(1, self.speeds.shape[1] + 1)}
+        return xr.Dataset({"forward": (("stiffness", "critical"), self.speeds * f,
+                                       {"units": units, "long_name": "forward critical speed"}),
+                           "backward": (("stiffness", "critical"), self.backward * f,
+                                        {"units": units, "long_name": "backward critical speed"})},
+                          coords=coords, attrs={"supports": ", ".join(self.supports)})
+
     def plot(self, ax=None, **kwargs):
         """Log-log map (:func:`rotorkit.plotting.maps.plot_critical_speed_map`)."""
         from ..plotting.critical_map import plot_critical_speed_map

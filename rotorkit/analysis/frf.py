@@ -66,6 +66,15 @@ class FRF:
         return FRF(frequencies=self.frequencies, values=self.values * factor[:, None, None], outputs=self.outputs,
                    inputs=self.inputs, kind=kind, speed=self.speed)
 
+    def to_xarray(self):
+        """The FRFs as an :class:`xarray.DataArray` over (frequency, output, input), complex."""
+        import xarray as xr
+
+        return xr.DataArray(self.values, dims=("frequency", "output", "input"), name=self.kind,
+                            coords={"frequency": ("frequency", self.frequencies, {"units": "rad/s"}),
+                                    "output": list(self.outputs), "input": list(self.inputs)},
+                            attrs={"units": self.units, "speed": self.speed})
+
     def plot(self, output, input, axes=None, **kwargs):
         """Magnitude and phase (:func:`rotorkit.plotting.response.plot_frf`); returns the two Axes."""
         from ..plotting.response import plot_frf

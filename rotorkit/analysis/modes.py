@@ -290,4 +290,7 @@ def natural_frequencies(system, *, t=0.0, equilibrium=True, rub_engaged=None, un
         frange[np.isnan(spread).any(axis=1)] = np.nan
     frange.setflags(write=False)
     object.__setattr__(modes, "frequency_range", frange)
+    from ..plotting.rotor import rotor_layout
+
+    object.__setattr__(modes, "layout", rotor_layout(system.model))  # for the mode-shape plots
     return modes

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "tilt_pairs", "shape_whirl", "FORWARD", "BACKWARD",
-           "MIXED", "LINEAR"]
+__all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "tilt_pairs", "shape_whirl", "reference_length",
+           "FORWARD", "BACKWARD", "MIXED", "LINEAR"]
 
 FORWARD, BACKWARD, MIXED, LINEAR = "forward", "backward", "mixed", "linear"
 #: |F| and |B| within this relative margin: a straight-line (planar) orbit
@@ -142,6 +142,15 @@ def slope_orbit(thx, thy):
     return orbit(np.asarray(thy, dtype=complex), -np.asarray(thx, dtype=complex))
 
 
+def reference_length(positions):
+    """The length (m) that weighs a tilt (rad) against a displacement: the span of the station positions, else 1 m."""
+    if positions:
+        span = max(positions.values()) - min(positions.values())
+        if span > 0:
+            return float(span)
+    return 1.0
+
+
 def shape_whirl(shapes, names, positions=None):
     """Whirl of each mode and of each station, from mode shapes.
 
@@ -166,10 +175,7 @@ def shape_whirl(shapes, names, positions=None):
     shapes = np.asarray(shapes, dtype=complex)
     k = shapes.shape[1]
     pairs, tilts = station_pairs(names), tilt_pairs(names)
-    length = 1.0
-    if positions:
-        span = max(positions.values()) - min(positions.values())
-        length = span if span > 0 else 1.0
+    length = reference_length(positions)
     kinds, sizes, owners = [], [], []
     for group, scale, make in ((pairs, 1.0, orbit), (tilts, length, slope_orbit)):
         if group:
