@@ -181,10 +181,11 @@ class Modes:
         """Names of the ``count`` coordinates of ``mode`` (1-based) that move most, largest first.
 
         Ranked by displacement: the ``x``, ``y`` (m) and torsion (rad)
-        entries of the shape. Tilts come in only when the displacements are
-        insignificant (below :data:`~rotorkit.analysis.whirl.SIGNIFICANT` of
-        the largest tilt times :attr:`reference_length`, as the whirl of a
-        mode weighs them): a station that only tilts.
+        entries of the shape first, then the tilts; entries below
+        :data:`~rotorkit.analysis.whirl.SIGNIFICANT` of the largest (tilts
+        times :attr:`reference_length`, as the whirl of a mode weighs them)
+        are left out. Tilts lead only when the displacements are
+        insignificant: a station that only tilts.
         """
         from .whirl import SIGNIFICANT
 
@@ -193,9 +194,12 @@ class Modes:
         tilt[[j for _, a, b in tilt_pairs(self.coordinate_names) for j in (a, b)]] = True
         moved = sizes[~tilt].max() if (~tilt).any() else 0.0
         tilted = sizes[tilt].max() if tilt.any() else 0.0
-        if moved >= SIGNIFICANT * tilted and moved > 0:
-            sizes = np.where(tilt, -1.0, sizes)  # tilts after every displacement
-        order = np.argsort(-sizes, kind="stable")
+        keep = sizes >= SIGNIFICANT * max(moved, tilted)
+        if moved >= SIGNIFICANT * tilted and moved > 0:  # displacements first, tilts after them
+            rank = np.where(tilt, sizes / max(tilted, 1e-300) - 2.0, sizes / moved)
+        else:
+            rank = sizes
+        order = [j for j in np.argsort(-rank, kind="stable") if keep[j] and sizes[j] > 0]
         return tuple(self.coordinate_names[j] for j in order[:count])
 
     def orbits(self, mode):
