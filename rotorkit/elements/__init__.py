@@ -6,7 +6,7 @@ from .beam import BeamSegment
 from .bearing import BallBearing
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
-from .masses import Disk, LumpedMass
+from .masses import Disk, DiskGeometry, LumpedMass
 from .pedestal import Pedestal
 from .material import Material
 from .rotor import Rotor
@@ -22,6 +22,7 @@ __all__ = [
     "BeamSegment",
     "Rotor",
     "Disk",
+    "DiskGeometry",
     "LumpedMass",
     "ShaftSegment",
     "ElasticSupport",

@@ -93,7 +93,7 @@ def plot_frf(frf, output, input, *, axes=None, units="rad/s"):
     x = frf.frequencies * fs
     top.semilogy(x, np.abs(H), lw=1.3)
     top.set_ylabel(f"|{frf.kind}| ({frf.units})")
-    top.set_title(f"{frf.kind} {output}/{input} at speed {frf.speed:g} rad/s")
+    top.set_title(f"{frf.kind} {output}/{input} at speed {frf.speed * fs:.6g} {units}")
     bottom.plot(x, np.degrees(np.angle(H)), lw=1.3)
     bottom.set_ylabel("phase (deg)")
     bottom.set_xlabel(f"frequency ({units})")
