@@ -74,11 +74,13 @@ def plot_mode_shape(modes, mode, ax=None, *, model=None, units="rad/s", rotor=Tr
     orbit, normalised by the largest displacement orbit (its peak is 1),
     against axial position; each spool is its own line. Markers give each
     station's whirl (circle forward, cross backward, square a straight
-    line). Where a station also tilts, its slope orbit times the rotor's
-    length (:attr:`~rotorkit.analysis.modal.Modes.reference_length`) is
-    drawn dotted with its own markers where it is significant: the mode's
-    whirl in the title (and the table) is forward, backward or mixed from
-    all these markers together.
+    line). Where stations also tilt, their slope orbits are drawn dotted
+    (relative to the largest slope orbit), with their own markers where
+    they are significant against the displacements (the slope times the
+    rotor's length, :attr:`~rotorkit.analysis.modal.Modes.reference_length`,
+    as the whirl of a mode weighs it): the mode's whirl in the title (and
+    the table) is forward, backward or mixed from all these markers
+    together.
     """
     from ..analysis.whirl import SIGNIFICANT, orbit, slope_orbit, tilt_pairs
 
@@ -121,14 +123,14 @@ def plot_mode_shape(modes, mode, ax=None, *, model=None, units="rad/s", rotor=Tr
                 ax.plot(pos[sel], o.major[sel] * scale, marker, color="k", ms=5, ls="none",
                         label=once(f"{kind} whirl"))
         sizes = np.array([sl.major * length if sl is not None else np.nan for sl in slope], dtype=float)
-        if np.isfinite(sizes).any():
-            ax.plot(pos, sizes * scale, ":", color=colour, lw=0.9, label=once(f"slope x {length:.3g} m{suffix}"))
-            top = max(top, float(np.nanmax(sizes * scale)))
+        if np.isfinite(sizes).any() and slope_peak > 0:
+            shown_sizes = sizes / slope_peak  # the slopes on their own scale: the displacements stay readable
+            ax.plot(pos, shown_sizes, ":", color=colour, lw=0.9, label=once(f"slope orbit / largest{suffix}"))
             for kind, marker in _MARKERS.items():
                 sel = [j for j, sl in enumerate(slope) if sl is not None and sl.direction == kind
                        and sizes[j] >= SIGNIFICANT * largest]
                 if sel:
-                    ax.plot(pos[sel], sizes[sel] * scale, marker, color="0.45", ms=4, ls="none",
+                    ax.plot(pos[sel], shown_sizes[sel], marker, color="0.45", ms=4, ls="none",
                             label=once(f"slope {kind} whirl"))
     if ordinal:
         ax.set_xticks(lines[0][1], [s for s, *_ in groups[0][1]])
