@@ -141,7 +141,7 @@ def plot_mode_shape(modes, mode, ax=None, *, model=None, units="rad/s", rotor=Tr
         bottom = -0.55 * top
         draw_rotor(ax, layout, bottom=bottom, top=-0.08 * top)
     ax.set_xlabel(label)
-    ax.set_ylabel("orbit size / largest displacement (-)")
+    ax.set_ylabel("relative orbit size (largest displacement = 1)")
     ax.set_ylim(bottom, 1.08 * top)
     if bottom < 0:
         ax.set_yticks([t for t in ax.get_yticks() if 0 <= t <= 1.08 * top])
