@@ -76,8 +76,8 @@ def main():
     modes = linear.modes(300.0)
     print(modes.table(units="Hz").splitlines()[0])
     print("\n".join(modes.table(units="Hz").splitlines()[2:8]))
-    save(modes.plot_mode_shape(1).figure, out / "mode1.png")
-    save(modes.plot_orbits(3).figure, out / "mode3_orbits.png")
+    save(modes.plot_mode_shape(1, model=model).figure, out / "mode1.png")  # the rotor drawn under the shape
+    save(modes.plot_orbits(3, model=model).figure, out / "mode3_orbits.png")
 
     diagram = campbell(model, SPEEDS, n_modes=6, speed_parameter="R_speed")
     print(diagram.table(units="rpm"))

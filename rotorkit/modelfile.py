@@ -216,6 +216,42 @@ def _quantity(value, unit, where):
     return _toml_string(f"{text} {unit}") if unit else text
 
 
+def _same(a, b):
+    try:
+        return bool(a == b) if not isinstance(a, np.ndarray) else bool(np.array_equal(a, b))
+    except Exception:  # an ambiguous comparison counts as different
+        return False
+
+
+def _derived_fields(obj):
+    """Fields the constructor computes from the others: left out of the file, so it holds what was written.
+
+    A field whose value is not its default is left out when building the
+    object without it gives the same object (a beam's density from its
+    material, a material's Poisson ratio from E and G). Fields are tried
+    from the last to the first, so of two fields that give each other the
+    earlier one (as a constructor lists its inputs first) is kept.
+    """
+    cls = type(obj)
+    fields = [f for f in dataclasses.fields(cls) if f.init]
+    kwargs = {f.name: getattr(obj, f.name) for f in fields if getattr(obj, f.name) is not None}
+    derived = set()
+    for f in reversed(fields):
+        if f.name not in kwargs or f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+            continue
+        if _same(kwargs[f.name], f.default if f.default is not dataclasses.MISSING else f.default_factory()):
+            continue  # a default is written as before
+        trial = {k: v for k, v in kwargs.items() if k != f.name}
+        try:
+            rebuilt = cls(**trial)
+        except Exception:  # the field is needed
+            continue
+        if all(_same(getattr(rebuilt, g.name), getattr(obj, g.name)) for g in fields):
+            derived.add(f.name)
+            kwargs = trial
+    return derived
+
+
 def _object_items(obj, where):
     """(key, TOML text) of a registered dataclass: ``type`` first, then its fields (None left out)."""
     cls = type(obj)
@@ -224,11 +260,12 @@ def _object_items(obj, where):
                              "register it with rotorkit.modelfile.register_type to write it to a file")
     items = [("type", _toml_string(cls.__name__))]
     units = getattr(cls, "_units", {})
+    derived = _derived_fields(obj)
     for f in dataclasses.fields(cls):
         if not f.init:
             continue
         value = getattr(obj, f.name)
-        if value is None:
+        if value is None or f.name in derived:
             continue
         if f.name in units and not dataclasses.is_dataclass(value):  # (a SpeedProfile in Rotor.speed)
             unit = obj.unit_of(f.name) if hasattr(obj, "unit_of") else units[f.name][0]

@@ -81,7 +81,7 @@ def build_preset(module, overrides, name=None):
     try:
         return module.build(**overrides)
     except ParameterError as err:
-        label = name or getattr(module, "NAME", module.__name__.rsplit(".", 1)[-1])
+        label = name or getattr(module, "NAME", None) or getattr(module, "__name__", "scene").rsplit(".", 1)[-1]
         for key, value in overrides.items():
             if key in str(err):
                 raise

@@ -11,7 +11,7 @@ from fractions import Fraction
 
 from .errors import ParameterError, UnitError
 
-__all__ = ["to_si", "registry", "parse_quantity", "parse_unit"]
+__all__ = ["to_si", "to_si_array", "registry", "parse_quantity", "parse_unit", "display_factor", "SPEED_UNITS"]
 
 _REGISTRY = None
 
@@ -295,3 +295,120 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
     if sign == "nonnegative" and not magnitude >= 0:
         raise ParameterError(f"{name} = {shown!r} must be >= 0 ({shown_unit})")
     return magnitude
+
+
+def _quantity_parts(value, unit, name, shown):
+    """Magnitude (any shape, still a number or an array) of ``value`` in ``unit``: dimension checked."""
+    if isinstance(value, str):
+        try:
+            value = parse_quantity(value, name)
+        except _NotANumber:
+            raise UnitError(
+                f"{name} = {shown!r} is not a number: expected values in {unit or 'dimensionless'}, a pint "
+                "quantity or a string such as '3000 rpm'"
+            ) from None
+    if _is_quantity(value):
+        if unit.startswith("rad") and "hertz" in str(value.units):
+            raise UnitError(
+                f"{name} = {shown!r}: Hz is ambiguous for an angular quantity (pint takes 1 Hz = 1 rad/s); "
+                f"give {unit}, rpm or turn/s (e.g. 50 Hz spin = 50 turn/s)"
+            )
+        try:
+            return value.to(unit or "dimensionless").magnitude
+        except Exception as exc:  # pint's DimensionalityError and friends
+            raise UnitError(f"{name} = {shown!r} has the wrong unit: expected a quantity in "
+                            f"{unit or 'dimensionless'}") from exc
+    return value
+
+
+def to_si_array(value, unit, name, *, complex_values=False):
+    """Convert numbers, arrays, pint quantities (scalar or array) or strings to a float array in ``unit``.
+
+    The array form of :func:`to_si`: a pint array keeps its unit until it is
+    converted (``Q_([0, 1000], "rpm")`` gives ``[0, 104.7...]`` rad/s, never
+    the stripped magnitudes), a string or a sequence of strings and
+    quantities is converted item by item (``["0 rpm", "3000 rpm"]``), plain
+    numbers are taken as already in ``unit``.
+
+    Parameters
+    ----------
+    value : float, array_like, str, pint.Quantity or sequence of them
+    unit : str
+        The SI unit expected (``"rad/s"``, ``"N/m"``, ``"s"``, ``""``).
+    name : str
+        Parameter name, used in error messages.
+    complex_values : bool
+        Keep complex numbers (amplitudes); otherwise a float array.
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape as the input (0-d for a scalar); no finiteness check (the
+        caller says what it needs).
+
+    Raises
+    ------
+    UnitError
+        A wrong dimension, or not numbers.
+
+    Examples
+    --------
+    >>> to_si_array(["0 rpm", "3000 rpm"], "rad/s", "speeds").round(4).tolist()
+    [0.0, 314.1593]
+    """
+    import numpy as np
+
+    shown = value
+    value = _quantity_parts(value, unit, name, shown)
+    if isinstance(value, (list, tuple)) and any(isinstance(v, str) or _is_quantity(v) for v in value):
+        value = [_quantity_parts(v, unit, name, shown) for v in value]
+    dtype = complex if complex_values else float
+    try:
+        array = np.array(value, dtype=dtype)
+    except (TypeError, ValueError) as exc:
+        raise UnitError(f"{name} = {shown!r} is not numbers: expected values in {unit or 'dimensionless'}, "
+                        "a pint quantity or strings such as '3000 rpm'") from exc
+    if array.dtype == object:  # pragma: no cover - np.array with a dtype never gives object
+        raise UnitError(f"{name} = {shown!r} is not numbers")
+    return array
+
+
+#: output units of a speed or frequency -> factor from rad/s (Hz and rpm as cycles: 1 Hz = 2 pi rad/s)
+SPEED_UNITS = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
+#: output length units -> factor from metres
+LENGTH_UNITS = {"m": 1.0, "mm": 1e3, "um": 1e6, "µm": 1e6}
+
+
+def display_factor(units, kind="speed", name="units"):
+    """Factor from SI to the output ``units`` of a printed or plotted quantity.
+
+    Parameters
+    ----------
+    units : str
+        For ``kind="speed"``: ``"rad/s"``, ``"Hz"`` (cycles per second),
+        ``"rpm"`` or any angular-speed unit pint knows (``"krpm"`` is not
+        one; ``"turn/min"``, ``"deg/s"`` are). For ``kind="length"``: ``"m"``,
+        ``"mm"``, ``"um"`` or any length unit.
+    kind : {"speed", "length"}
+    name : str
+        Parameter name in error messages.
+
+    Raises
+    ------
+    UnitError
+        Not a unit of that kind.
+    """
+    table, si = (SPEED_UNITS, "rad/s") if kind == "speed" else (LENGTH_UNITS, "m")
+    if isinstance(units, str) and units in table:
+        return table[units]
+    if not isinstance(units, str):
+        raise UnitError(f"{name}={units!r} is not supported: expected one of {tuple(table)} or a unit "
+                        f"of {kind} such as {tuple(table)[-1]!r}")
+    try:
+        unit = parse_unit(units, name)
+        if kind == "speed" and "hertz" in str(unit):
+            raise UnitError(f"{name}={units!r}: only 'Hz' itself is read as cycles per second")
+        return float(registry().Quantity(1.0, si).to(unit).magnitude)
+    except Exception as exc:
+        raise UnitError(f"{name}={units!r} is not supported: expected one of {tuple(table)} or a unit "
+                        f"of {kind} ({si})") from exc

@@ -25,3 +25,11 @@ def handwritten():
     from helpers import load_handwritten
 
     return load_handwritten()
+
+
+@pytest.fixture(autouse=True)
+def close_pyplot_figures():
+    """Plots drawn without ``ax=`` are pyplot figures: close them after each test (no figure piles up)."""
+    yield
+    if "matplotlib.pyplot" in sys.modules:
+        sys.modules["matplotlib.pyplot"].close("all")

@@ -29,6 +29,8 @@ def sink_model():
         rk.Disk(station=2, mass=10.0, radius=0.075, eccentricity=4.635e-5, phase=0.1, torsion=True),
         rk.Disk(station=3, mass=3.0, polar_inertia=0.02),
         rk.Disk(name="hpdisk", station="h", mass=8.0, radius=0.07, eccentricity=1e-5),
+        rk.Disk.from_geometry(station=4, width=0.02, inner_diameter=0.01, outer_diameter=0.1,
+                              material=rk.elements.Material.steel()),
         rk.ElasticSupport(station=1, stiffness=1e6, damping=300.0),
         rk.ElasticSupport(station="h", stiffness=2e6),
         rk.ShaftSegment(start=1, end=2, length=0.33, youngs_modulus=2e11, area_moment=1.178e-7,

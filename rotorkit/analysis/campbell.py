@@ -28,12 +28,50 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .modal import frequency_factor
+from .modal import frequency_factor, unit_slug
+from .tables import csv_output
 
-__all__ = ["Campbell", "CriticalSpeed", "InstabilityOnset", "campbell", "mac"]
+__all__ = ["Campbell", "CriticalSpeed", "InstabilityOnset", "campbell", "mac", "neutral_tolerance"]
 
-#: log decrements within this of zero at both ends of a grid interval are a neutral (undamped) mode
+#: log decrements within this of zero are a neutral (undamped) mode, whatever the problem (the floor of
+#: :func:`neutral_tolerance`)
 NEUTRAL_LOG_DECREMENT = 1e-8
+#: relative rounding of an eigenvalue's real part, in units of the largest eigenvalue modulus of the problem
+EIGENVALUE_ROUNDING = 1e3 * np.finfo(float).eps
+
+
+def neutral_tolerance(eigenvalues, spectral_radius):
+    """Log decrements below this in magnitude are rounding noise of the eigen-solution, not damping.
+
+    A backward-stable eigen-solver gives ``Re(lambda)`` to about ``eps``
+    times the largest eigenvalue modulus ``rho`` of the state matrix (times
+    a modest condition number), so the log decrement
+    ``-2 pi Re(lambda) / Im(lambda)`` of an undamped mode comes out as
+    ``+-2 pi eps rho / Im(lambda)`` or so: large for low modes of a stiff
+    finite-element model. The tolerance is::
+
+        max(NEUTRAL_LOG_DECREMENT, 2 pi EIGENVALUE_ROUNDING rho / |Im(lambda)|)
+
+    with ``EIGENVALUE_ROUNDING = 1000 eps`` (``2.2e-13``) and
+    ``NEUTRAL_LOG_DECREMENT = 1e-8``.
+
+    Parameters
+    ----------
+    eigenvalues : numpy.ndarray of complex
+        The modes' eigenvalues (1/s).
+    spectral_radius : float or numpy.ndarray
+        Largest ``|lambda|`` (1/s) of the eigen-problem they come from
+        (broadcast against ``eigenvalues``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape as ``eigenvalues``.
+    """
+    lam = np.asarray(eigenvalues, dtype=complex)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scaled = 2.0 * np.pi * EIGENVALUE_ROUNDING * np.asarray(spectral_radius, dtype=float) / np.abs(lam.imag)
+    return np.fmax(NEUTRAL_LOG_DECREMENT, np.nan_to_num(scaled, nan=NEUTRAL_LOG_DECREMENT, posinf=np.inf))
 
 
 def mac(a, b):
@@ -109,6 +147,10 @@ class Campbell:
         Located by root finding, by speed.
     onsets : tuple of InstabilityOnset
         Located by root finding, by speed.
+    neutral_log_decrements : numpy.ndarray, shape (n_speeds, n_modes), optional
+        Log decrements smaller than this in magnitude are taken as zero
+        (rounding noise of an undamped mode, :func:`neutral_tolerance`): no
+        onset is reported where a log decrement only changes sign within it.
     """
 
     speeds: np.ndarray
@@ -122,6 +164,7 @@ class Campbell:
     orders: tuple = (1.0,)
     crossings: tuple = ()
     onsets: tuple = ()
+    neutral_log_decrements: np.ndarray | None = None
 
     @property
     def n_modes(self):
@@ -138,7 +181,8 @@ class Campbell:
     def instability_onset(self):
         """Lowest swept speed (rad/s) where a mode becomes unstable, or None."""
         ups = [o.speed for o in self.onsets if o.becomes == "unstable"]
-        if not ups and np.any(self.log_decrements[0] < 0):
+        tol = 0.0 if self.neutral_log_decrements is None else self.neutral_log_decrements[0]
+        if not ups and np.any(self.log_decrements[0] < -tol):
             return float(self.speeds[0])
         return min(ups) if ups else None
 
@@ -157,10 +201,19 @@ class Campbell:
                              f"({o.whirl}, {o.frequency * f:.6g} {units})")
         return "\n".join(lines)
 
-    def to_csv(self, units="rad/s"):
-        """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl."""
+    def to_csv(self, path=None, *, units="rad/s"):
+        """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            Where to write; None returns the text.
+        units : str
+            Speed and frequency units (``"rad/s"``, ``"Hz"``, ``"rpm"``, ...);
+            the column names carry them.
+        """
         f = frequency_factor(units)
-        u = {"rad/s": "rad_s", "Hz": "Hz", "rpm": "rpm"}[units]
+        u = unit_slug(units)
         cols = [f"{self.speed_parameter}_{u}"] + [f"{r}_spin_{u}" for r in self.rotor_speeds]
         for k in range(self.n_modes):
             cols += [f"mode{k + 1}_frequency_{u}", f"mode{k + 1}_log_decrement", f"mode{k + 1}_whirl"]
@@ -171,7 +224,28 @@ class Campbell:
                 vals += [f"{self.frequencies[i, k] * f:.10g}", f"{self.log_decrements[i, k]:.10g}",
                          str(self.whirl[i, k])]
             rows.append(",".join(vals))
-        return "\n".join(rows) + "\n"
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_xarray(self, units="rad/s"):
+        """The diagram as an :class:`xarray.Dataset` over (speed, mode), CF-style ``units``/``long_name``."""
+        import xarray as xr
+
+        f = frequency_factor(units)
+        speed = xr.Variable("speed", self.speeds * f, {"units": units, "long_name": self.speed_parameter})
+        modes = np.arange(1, self.n_modes + 1)
+        data = {
+            "frequency": (("speed", "mode"), self.frequencies * f,
+                          {"units": units, "long_name": "damped natural frequency"}),
+            "natural_frequency": (("speed", "mode"), self.natural_frequencies * f,
+                                  {"units": units, "long_name": "natural frequency |lambda|"}),
+            "damping_ratio": (("speed", "mode"), np.asarray(self.damping_ratios), {"units": "1"}),
+            "log_decrement": (("speed", "mode"), np.asarray(self.log_decrements),
+                              {"units": "1", "long_name": "logarithmic decrement"}),
+            "whirl": (("speed", "mode"), np.asarray(self.whirl, dtype=str)),
+        }
+        for rotor, line in self.rotor_speeds.items():
+            data[f"{rotor}_spin"] = ("speed", line * f, {"units": units, "long_name": f"spin speed of {rotor}"})
+        return xr.Dataset(data, coords={"speed": speed, "mode": modes})
 
     def plot(self, ax=None, **kwargs):
         """Draw the Campbell diagram (:func:`rotorkit.plotting.campbell.plot_campbell`); returns the Axes."""
@@ -281,10 +355,9 @@ def _match(previous_shapes, previous_freqs, modes, count):
 
 
 def _check_speeds(speeds):
-    try:
-        w = np.array(speeds, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"speeds={speeds!r} is invalid: expected a 1-D array of speeds (rad/s)") from exc
+    from ..units import to_si_array
+
+    w = to_si_array(speeds, "rad/s", "speeds")
     if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w)):
         raise ParameterError(f"speeds has shape {w.shape}: expected a non-empty 1-D array of finite speeds (rad/s)")
     if w.size > 1 and np.any(np.diff(w) <= 0):
@@ -314,8 +387,10 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         speed with ``relinearize=True``
         (:func:`~rotorkit.analysis.modes.natural_frequencies`). A rotor with
         a speed profile is swept by ``<rotor>_speed`` like a constant one.
-    speeds : array_like, shape (n_speeds,)
-        Increasing values of the swept speed (rad/s).
+    speeds : array_like, pint.Quantity or sequence of str, shape (n_speeds,)
+        Increasing values of the swept speed: rad/s as plain numbers, or
+        with their unit (``Q_(np.linspace(0, 15000, 31), "rpm")``,
+        ``["0 rpm", "3000 rpm"]``).
     n_modes : int
         Number of modes tracked (the lowest ``n_modes`` at the first speed).
     speed_parameter : str, optional
@@ -331,7 +406,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         As in :func:`~rotorkit.analysis.modes.natural_frequencies` (systems only).
     backend : {"auto", "c", "numba", "python"}
         Used only when a model has to be compiled.
-    xtol : float, optional
+    xtol : float, str or pint.Quantity, optional
         Absolute tolerance (rad/s) of the located speeds (default 1e-9 of the
         speed range).
     relinearize : bool
@@ -359,8 +434,11 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
 
     from .modes import DEFAULT_CAGE_SAMPLES
 
+    from ..units import to_si
+
     target = _resolve_system(model_or_preset_builder, backend)
     w = _check_speeds(speeds)
+    t = to_si(t, "s", "t")
     if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
         raise ParameterError(f"n_modes={n_modes!r} is invalid: expected an integer >= 1")
     try:
@@ -380,10 +458,12 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     lam = np.full(shape, np.nan + 0j)
     whirl = np.full(shape, "", dtype=object)
     tracked_shapes = []  # per speed: (n, count) shapes of the tracked modes
+    radius = np.zeros(w.size)  # largest |lambda| of each speed's eigen-problem
     prev_shapes = prev_freqs = None
     lines = None
     for i, speed in enumerate(w):
         modes = modes_at(float(speed))
+        radius[i] = float(np.max(np.abs(modes.all_eigenvalues))) if modes.all_eigenvalues.size else 0.0
         cols = _match(prev_shapes, prev_freqs, modes, count)
         if prev_shapes is None:
             count = len(cols)
@@ -412,7 +492,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     damped = lam.imag
     logdec = -2.0 * np.pi * lam.real / lam.imag
     span = float(w[-1] - w[0]) if w.size > 1 else 1.0
-    xtol = 1e-9 * max(span, 1.0) if xtol is None else float(xtol)
+    xtol = 1e-9 * max(span, 1.0) if xtol is None else to_si(xtol, "rad/s", "xtol", sign="positive")
 
     def tracked(k, j, speed):
         """Eigenvalue and whirl of tracked mode k at ``speed``, continued from grid point j."""
@@ -452,13 +532,14 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
                     value, kind = tracked(k, j, s) if refine else (lam[j, k], whirl[j, k])
                     crossings.append(CriticalSpeed(rotor=name, order=order, mode=k + 1, speed=s,
                                                    frequency=float(order * ratio_of(s)), whirl=kind or whirl[j, k]))
+    neutral = neutral_tolerance(lam, radius[:, None])
     onsets = []
     for k in range(count):
         d = logdec[:, k]
         for j in range(w.size - 1):
             if not (np.isfinite(d[j]) and np.isfinite(d[j + 1])) or d[j] * d[j + 1] >= 0:
                 continue
-            if max(abs(d[j]), abs(d[j + 1])) < NEUTRAL_LOG_DECREMENT:
+            if abs(d[j]) <= neutral[j, k] and abs(d[j + 1]) <= neutral[j + 1, k]:
                 continue  # an undamped mode: rounding noise about zero, not an onset
 
             def g(s, value, k=k, j=j):
@@ -482,6 +563,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         orders=orders,
         crossings=tuple(sorted(crossings, key=lambda c: (c.speed, c.mode))),
         onsets=tuple(sorted(onsets, key=lambda o: o.speed)),
+        neutral_log_decrements=_ro(neutral),
     )
 
 

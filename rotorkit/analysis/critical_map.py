@@ -44,6 +44,36 @@ class CriticalSpeedMap:
     supports: tuple
     bearing_curves: dict
 
+    def to_csv(self, path=None, *, units="rad/s"):
+        """One row per support stiffness (N/m): the forward then the backward critical speeds in ``units``."""
+        from ..units import display_factor
+        from .modal import unit_slug
+        from .tables import csv_output
+
+        f, u = display_factor(units, "speed"), unit_slug(units)
+        n = self.speeds.shape[1]
+        cols = ["stiffness_N_m"] + [f"forward{j + 1}_{u}" for j in range(n)] + [f"backward{j + 1}_{u}"
+                                                                                 for j in range(n)]
+        rows = [",".join(cols)]
+        for a, k in enumerate(self.stiffnesses):
+            rows.append(",".join(f"{v:.10g}" for v in (k, *(self.speeds[a] * f), *(self.backward[a] * f))))
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_xarray(self, units="rad/s"):
+        """The map as an :class:`xarray.Dataset` over (stiffness, critical)."""
+        import xarray as xr
+
+        from ..units import display_factor
+
+        f = display_factor(units, "speed")
+        coords = {"stiffness": ("stiffness", self.stiffnesses, {"units": "N/m", "long_name": "support stiffness"}),
+                  "critical": np.arange(1, self.speeds.shape[1] + 1)}
+        return xr.Dataset({"forward": (("stiffness", "critical"), self.speeds * f,
+                                       {"units": units, "long_name": "forward critical speed"}),
+                           "backward": (("stiffness", "critical"), self.backward * f,
+                                        {"units": units, "long_name": "backward critical speed"})},
+                          coords=coords, attrs={"supports": ", ".join(self.supports)})
+
     def plot(self, ax=None, **kwargs):
         """Log-log map (:func:`rotorkit.plotting.maps.plot_critical_speed_map`)."""
         from ..plotting.critical_map import plot_critical_speed_map
@@ -61,10 +91,12 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
         The rotor without (or with, as a baseline) the supports being varied.
     supports : sequence of station
         Stations whose ``x`` and ``y`` support stiffness is ``k``.
-    stiffnesses : array_like, shape (n_k,)
-        Support stiffness values (N/m), positive (log-spaced for a log-log map).
-    speed_range : (float, float)
-        Swept speed range (rad/s) searched for 1x crossings.
+    stiffnesses : array_like or pint.Quantity, shape (n_k,)
+        Support stiffness values (N/m, or with a unit: ``Q_(k, "N/mm")``),
+        positive (log-spaced for a log-log map).
+    speed_range : (float, float), pint.Quantity or (str, str)
+        Swept speed range (rad/s, or with a unit: ``("0 rpm", "20000 rpm")``)
+        searched for 1x crossings.
     n_critical : int
         Number of critical speeds kept per whirl direction.
     n_speeds : int
@@ -82,13 +114,15 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
 
     if not isinstance(rotor, LinearModel):
         raise TypeError(f"critical_speed_map: expected a LinearModel, got {type(rotor).__name__}")
-    k = np.array(stiffnesses, dtype=float).reshape(-1)
+    from ..units import to_si_array
+
+    k = to_si_array(stiffnesses, "N/m", "stiffnesses").reshape(-1)
     if k.size == 0 or not np.all(np.isfinite(k)) or np.any(k <= 0):
         raise ParameterError(f"stiffnesses={stiffnesses!r} is invalid: expected positive stiffnesses (N/m)")
-    try:
-        lo, hi = (float(v) for v in speed_range)
-    except (TypeError, ValueError):
-        raise ParameterError(f"speed_range={speed_range!r} is invalid: expected (low, high) in rad/s") from None
+    bounds = to_si_array(speed_range, "rad/s", "speed_range")
+    if bounds.shape != (2,):
+        raise ParameterError(f"speed_range={speed_range!r} is invalid: expected (low, high) in rad/s")
+    lo, hi = (float(v) for v in bounds)
     if not 0 <= lo < hi:
         raise ParameterError(f"speed_range={speed_range!r} is invalid: expected 0 <= low < high (rad/s)")
     stations = tuple(str(s) for s in supports)

@@ -66,6 +66,15 @@ class FRF:
         return FRF(frequencies=self.frequencies, values=self.values * factor[:, None, None], outputs=self.outputs,
                    inputs=self.inputs, kind=kind, speed=self.speed)
 
+    def to_xarray(self):
+        """The FRFs as an :class:`xarray.DataArray` over (frequency, output, input), complex."""
+        import xarray as xr
+
+        return xr.DataArray(self.values, dims=("frequency", "output", "input"), name=self.kind,
+                            coords={"frequency": ("frequency", self.frequencies, {"units": "rad/s"}),
+                                    "output": list(self.outputs), "input": list(self.inputs)},
+                            attrs={"units": self.units, "speed": self.speed})
+
     def plot(self, output, input, axes=None, **kwargs):
         """Magnitude and phase (:func:`rotorkit.plotting.response.plot_frf`); returns the two Axes."""
         from ..plotting.response import plot_frf
@@ -80,11 +89,13 @@ def frequency_response(model, frequencies, *, inputs=None, outputs=None, speed=0
     Parameters
     ----------
     model : LinearModel
-    frequencies : array_like, shape (m,)
-        Excitation frequencies (rad/s).
+    frequencies : array_like, pint.Quantity or sequence of str, shape (m,)
+        Excitation frequencies: rad/s as plain numbers, or with a unit
+        (``Q_(f, "rpm")``; a cyclic frequency in Hz as ``"turn/s"``, see
+        :func:`rotorkit.units.to_si`).
     inputs, outputs : sequence of str, optional
         Coordinate names where forces act and responses are read (default all).
-    speed : float
+    speed : float, str or pint.Quantity
         Swept speed (rad/s) at which ``G`` and ``H`` are taken.
     kind : {"receptance", "mobility", "accelerance"}
     method : {"auto", "banded", "dense"}
@@ -102,15 +113,15 @@ def frequency_response(model, frequencies, *, inputs=None, outputs=None, speed=0
     >>> frequency_response(model, [0.0, 50.0]).values[:, 0, 0].real.round(8).tolist()   # 1 / (k - m w^2)
     [5e-05, 6.667e-05]
     """
+    from ..units import to_si, to_si_array
     from .harmonic import solve_harmonic
-    from .linear_model import _speed
 
     if kind not in KINDS:
         raise ParameterError(f"kind={kind!r} is unknown: expected one of {list(KINDS)}")
-    w = np.array(frequencies, dtype=float).reshape(-1)
+    w = to_si_array(frequencies, "rad/s", "frequencies").reshape(-1)
     if w.size == 0 or not np.all(np.isfinite(w)):
         raise ParameterError("frequencies is empty or not finite: expected finite frequencies (rad/s)")
-    speed = _speed(speed)
+    speed = to_si(speed, "rad/s", "speed")
     inputs = model.coordinate_names if inputs is None else tuple(str(s) for s in inputs)
     outputs = model.coordinate_names if outputs is None else tuple(str(s) for s in outputs)
     cols = [model.coordinate_index(s) for s in inputs]

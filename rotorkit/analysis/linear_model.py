@@ -193,7 +193,7 @@ class LinearModel:
             return modes_from_matrices(M, C + w * G, K + w * H, self.coordinate_names, left=left,
                                        n_modes=n_modes, speed=w, station_positions=self.station_positions)
         return modes_from_state_matrix(self.state_matrix(w), self.coordinate_names, mass=self.mass, left=left,
-                                       speed=w, station_positions=self.station_positions)
+                                       n_modes=n_modes, speed=w, station_positions=self.station_positions)
 
     @functools.cached_property
     def _sparse(self):

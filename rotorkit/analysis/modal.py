@@ -34,7 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .whirl import orbit, shape_whirl, slope_orbit, station_pairs, tilt_pairs
+from .tables import DEFAULT_TABLE_MODES, csv_output
+from .whirl import orbit, reference_length, shape_whirl, slope_orbit, station_pairs, tilt_pairs
 
 __all__ = ["Modes", "modes_from_matrices", "modes_from_state_matrix"]
 
@@ -43,14 +44,19 @@ OSCILLATORY_RTOL = 1e-9
 #: Two eigenvalues closer than this fraction of |lambda| form a double one.
 DOUBLE_RTOL = 1e-7
 
-_FREQUENCY_FACTORS = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
+def frequency_factor(units, name="units"):
+    """Factor from rad/s to the output ``units`` (``"rad/s"``, ``"Hz"``, ``"rpm"`` or another angular speed).
+
+    See :func:`rotorkit.units.display_factor`; Hz and rpm count cycles (1 Hz = 2 pi rad/s).
+    """
+    from ..units import display_factor
+
+    return display_factor(units, "speed", name)
 
 
-def frequency_factor(units, allowed=tuple(_FREQUENCY_FACTORS)):
-    """Factor from rad/s to ``units``."""
-    if not isinstance(units, str) or units not in allowed:
-        raise ParameterError(f"units={units!r} is not supported: expected one of {tuple(allowed)}")
-    return _FREQUENCY_FACTORS[units]
+def unit_slug(units):
+    """A unit as a column-name suffix: ``"rad/s"`` -> ``"rad_s"``, ``"rpm"`` -> ``"rpm"``."""
+    return "".join(c if c.isalnum() else "_" for c in str(units).replace("**", "")).strip("_")
 
 
 def _readonly(array):
@@ -95,6 +101,9 @@ class Modes:
         The swept rotor speed (rad/s) the modes belong to, if known.
     station_positions : dict or None
         Station -> axial position (m), when the model has them.
+    layout : rotorkit.plotting.rotor.RotorLayout or None
+        The rotor drawn under the mode shapes (positions of every spool,
+        shaft, disks, bearings), when the modes come from a model.
 
     Notes
     -----
@@ -114,6 +123,7 @@ class Modes:
     left_shapes: np.ndarray | None = None
     speed: float | None = None
     station_positions: dict | None = None
+    layout: object = None
 
     def __len__(self):
         return int(self.frequencies.size)
@@ -150,13 +160,46 @@ class Modes:
         i = self._index(mode)
         return dict(zip(self.coordinate_names, self.shapes[:, i].tolist()))
 
-    def dominant_coordinates(self, mode, count=3):
-        """Names of the ``count`` largest entries of the shape of ``mode`` (1-based), largest first.
+    @property
+    def reference_length(self):
+        """Length (m) weighing tilts against displacements: the span of the station positions, else 1 m."""
+        return reference_length(self.station_positions)
 
-        Entries compare as numbers, m against rad.
+    def displacement_sizes(self, mode):
+        """``|shape|`` of ``mode`` (1-based) per coordinate, tilts times :attr:`reference_length` (m, relative).
+
+        What the dominant coordinates are ranked by: a tilt ``theta`` counts
+        as the displacement ``theta L`` it makes over the rotor's length.
         """
         i = self._index(mode)
-        order = np.argsort(-np.abs(self.shapes[:, i]), kind="stable")
+        sizes = np.abs(self.shapes[:, i]).astype(float)
+        tilts = [j for _, a, b in tilt_pairs(self.coordinate_names) for j in (a, b)]
+        sizes[tilts] *= self.reference_length
+        return sizes
+
+    def dominant_coordinates(self, mode, count=3):
+        """Names of the ``count`` coordinates of ``mode`` (1-based) that move most, largest first.
+
+        Ranked by displacement: the ``x``, ``y`` (m) and torsion (rad)
+        entries of the shape first, then the tilts; entries below
+        :data:`~rotorkit.analysis.whirl.SIGNIFICANT` of the largest (tilts
+        times :attr:`reference_length`, as the whirl of a mode weighs them)
+        are left out. Tilts lead only when the displacements are
+        insignificant: a station that only tilts.
+        """
+        from .whirl import SIGNIFICANT
+
+        sizes = self.displacement_sizes(mode)
+        tilt = np.zeros(sizes.size, dtype=bool)
+        tilt[[j for _, a, b in tilt_pairs(self.coordinate_names) for j in (a, b)]] = True
+        moved = sizes[~tilt].max() if (~tilt).any() else 0.0
+        tilted = sizes[tilt].max() if tilt.any() else 0.0
+        keep = sizes >= SIGNIFICANT * max(moved, tilted)
+        if moved >= SIGNIFICANT * tilted and moved > 0:  # displacements first, tilts after them
+            rank = np.where(tilt, sizes / max(tilted, 1e-300) - 2.0, sizes / moved)
+        else:
+            rank = sizes
+        order = [j for j in np.argsort(-rank, kind="stable") if keep[j] and sizes[j] > 0]
         return tuple(self.coordinate_names[j] for j in order[:count])
 
     def orbits(self, mode):
@@ -191,38 +234,102 @@ class Modes:
         """
         return shape_whirl(self.shapes, self.coordinate_names, self.station_positions)[0]
 
-    def table(self, units="rad/s"):
+    @property
+    def sampled(self):
+        """Whether the modes average several cage positions (ball bearings): the table shows the spread."""
+        return self.sample_times.size > 1
+
+    def _rows(self, n_modes):
+        if n_modes is None:
+            return len(self)
+        if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
+            raise ParameterError(f"n_modes={n_modes!r} is invalid: expected an integer >= 1 or None (all modes)")
+        return min(int(n_modes), len(self))
+
+    def table(self, units="rad/s", n_modes=DEFAULT_TABLE_MODES):
         """A plain-text table: frequency, damping ratio, log decrement, whirl, dominant coordinates.
 
         Parameters
         ----------
-        units : {"rad/s", "Hz", "rpm"}
-            Units of the frequency columns.
+        units : str
+            Units of the frequency columns: ``"rad/s"``, ``"Hz"``, ``"rpm"``
+            (Hz and rpm count cycles) or another angular speed.
+        n_modes : int or None
+            The lowest modes listed (default 6); None lists all.
+
+        Notes
+        -----
+        The cage-spread column (the range of each frequency over the cage
+        positions of ball bearings) appears only when several cage positions
+        were sampled. Dominant coordinates are ranked by displacement (see
+        :meth:`dominant_coordinates`); the whirl is the one the mode-shape
+        plot marks (:func:`~rotorkit.analysis.whirl.shape_whirl`).
         """
         factor = frequency_factor(units)
+        rows = self._rows(n_modes)
+        spread_head = f"  {f'cage spread ({units})':>23}" if self.sampled else ""
         head = (f"{'mode':>4}  {f'natural ({units})':>16}  {f'damped ({units})':>15}  {'damping ratio':>13}  "
-                f"{'log dec':>9}  {'whirl':>8}  {f'cage spread ({units})':>23}  dominant coordinates")
+                f"{'log dec':>9}  {'whirl':>8}{spread_head}  dominant coordinates")
         lines = [head, "-" * len(head)]
         whirl, logdec = self.whirl, self.log_decrements
-        for i in range(len(self)):
-            lo, hi = self.frequency_range[i] * factor
-            spread = f"{lo:10.4g} - {hi:<10.4g}" if np.isfinite(lo) else f"{'n/a':>23}"
+        for i in range(rows):
+            spread = ""
+            if self.sampled:
+                lo, hi = self.frequency_range[i] * factor
+                spread = "  " + (f"{lo:10.4g} - {hi:<10.4g}" if np.isfinite(lo) else f"{'n/a':>23}")
             lines.append(
                 f"{i + 1:>4}  {self.frequencies[i] * factor:>16.6g}  {self.eigenvalues[i].imag * factor:>15.6g}  "
-                f"{self.damping_ratios[i]:>13.4g}  {logdec[i]:>9.4g}  {whirl[i]:>8}  {spread:>23}  "
+                f"{self.damping_ratios[i]:>13.4g}  {logdec[i]:>9.4g}  {whirl[i]:>8}{spread}  "
                 f"{', '.join(self.dominant_coordinates(i + 1))}"
             )
+        if rows < len(self):
+            lines.append(f"({len(self) - rows} higher modes not shown; table(n_modes=None) lists all {len(self)})")
         return "\n".join(lines)
 
-    def to_csv(self, units="rad/s"):
-        """The table as CSV text: mode, natural and damped frequency, damping ratio, log dec, whirl."""
+    def _columns(self, units):
         factor = frequency_factor(units)
-        rows = [f"mode,natural_frequency_{_slug(units)},damped_frequency_{_slug(units)},damping_ratio,"
-                "log_decrement,whirl"]
-        for i, (w, lam, z, d, kind) in enumerate(zip(self.frequencies, self.eigenvalues, self.damping_ratios,
-                                                     self.log_decrements, self.whirl)):
-            rows.append(f"{i + 1},{w * factor:.10g},{lam.imag * factor:.10g},{z:.10g},{d:.10g},{kind}")
-        return "\n".join(rows) + "\n"
+        slug = unit_slug(units)
+        columns = {
+            "mode": np.arange(1, len(self) + 1),
+            f"natural_frequency_{slug}": self.frequencies * factor,
+            f"damped_frequency_{slug}": self.eigenvalues.imag * factor,
+            "damping_ratio": np.asarray(self.damping_ratios),
+            "log_decrement": self.log_decrements,
+            "whirl": np.array(self.whirl, dtype=object),
+        }
+        if self.sampled:
+            columns[f"cage_low_{slug}"] = self.frequency_range[:, 0] * factor
+            columns[f"cage_high_{slug}"] = self.frequency_range[:, 1] * factor
+        return columns
+
+    def to_csv(self, path=None, *, units="rad/s"):
+        """The modes as CSV: mode, natural and damped frequency, damping ratio, log dec, whirl (all modes).
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            Where to write; None returns the text.
+        units : str
+            Frequency units (as in :meth:`table`); the column names carry them.
+
+        Returns
+        -------
+        str or pathlib.Path
+        """
+        columns = self._columns(units)
+        rows = [",".join(columns)]
+        for i in range(len(self)):
+            rows.append(",".join(f"{v[i]:.10g}" if isinstance(v[i], (float, np.floating)) else str(v[i])
+                                 for v in columns.values()))
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_dataframe(self, units="rad/s"):
+        """The modes as a :class:`pandas.DataFrame` indexed by mode number (columns as in :meth:`to_csv`)."""
+        import pandas as pd
+
+        columns = self._columns(units)
+        return pd.DataFrame({k: v for k, v in columns.items() if k != "mode"}, index=pd.Index(columns["mode"],
+                                                                                                name="mode"))
 
     def plot_mode_shape(self, mode, ax=None, **kwargs):
         """Whirl orbit sizes of ``mode`` (1-based) along the shaft; returns the matplotlib Axes."""
@@ -235,10 +342,6 @@ class Modes:
         from ..plotting.modes import plot_mode_orbits
 
         return plot_mode_orbits(self, mode, ax=ax, **kwargs)
-
-
-def _slug(units):
-    return {"rad/s": "rad_s", "Hz": "Hz", "rpm": "rpm"}[units]
 
 
 def _circularise_pairs(lam, vec, names):
@@ -292,6 +395,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     from scipy import linalg
 
     n = len(names)
+    n_modes = _check_count(n_modes)
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
         eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
     elif left:
@@ -303,7 +407,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     Y = None
     if wl is not None:  # the lower half of a left state vector is M^H y (y: left coordinate vector)
         Y = np.linalg.solve(Mm.conj().T, wl[n:]) if mass is not None else wl[n:]
-    return _modes(eigenvalues, vr[:n], Y, names, Mm, Mm @ -A[n:, n:], fields)
+    return _modes(eigenvalues, vr[:n], Y, names, Mm, Mm @ -A[n:, n:], fields, n_modes)
 
 
 def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=None, **fields):
@@ -330,13 +434,14 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
         Further :class:`Modes` fields.
     """
     n = len(names)
+    n_modes = _check_count(n_modes)
     dense = [np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
              for A in (mass, damping, stiffness)]
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
         solved = _lowest_pencil_eigenpairs(mass, damping, stiffness, int(n_modes), left)
         if solved is not None:
             eigenvalues, X, Y = solved
-            return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields)
+            return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields, n_modes)
     from scipy.linalg import lu_factor, lu_solve
 
     M, C, K = dense
@@ -345,11 +450,23 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
     A[:n, n:] = np.eye(n)
     A[n:, :n] = -lu_solve(lu, K)
     A[n:, n:] = -lu_solve(lu, C)
-    return modes_from_state_matrix(A, names, mass=M, left=left, **fields)
+    return modes_from_state_matrix(A, names, mass=M, left=left, n_modes=n_modes, **fields)
 
 
-def _modes(eigenvalues, X, Y, names, M, C, fields):
-    """:class:`Modes` from eigenvalues with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``."""
+def _check_count(n_modes):
+    if n_modes is None:
+        return None
+    if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
+        raise ParameterError(f"n_modes={n_modes!r} is invalid: expected an integer >= 1 or None (all modes)")
+    return int(n_modes)
+
+
+def _modes(eigenvalues, X, Y, names, M, C, fields, n_modes=None):
+    """:class:`Modes` from eigenvalues with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``.
+
+    ``n_modes``: keep the lowest ``n_modes`` oscillatory modes (the sparse
+    solvers compute a few more to converge, and the dense one all of them).
+    """
     n = len(names)
     keep = eigenvalues.imag > OSCILLATORY_RTOL * np.abs(eigenvalues)
     lam = eigenvalues[keep]
@@ -357,6 +474,8 @@ def _modes(eigenvalues, X, Y, names, M, C, fields):
     lam = lam[order]
     vec = X[:, keep][:, order].copy()
     vec = _circularise_pairs(lam, vec, names)
+    if n_modes is not None:  # after the circular combinations, which need both members of a double root
+        order, lam, vec = order[:n_modes], lam[:n_modes], vec[:, :n_modes]
     k = lam.size
     shapes = np.empty((n, k), dtype=complex)
     for i in range(k):

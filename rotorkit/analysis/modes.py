@@ -161,7 +161,10 @@ def averaged_jacobian(system, *, t=0.0, equilibrium=True, rub_engaged=None, unba
     engaged : bool
         Whether a rub contact was engaged.
     """
+    from ..units import to_si
+
     _check_system(system, "averaged_jacobian")
+    t = to_si(t, "s", "t")
     t, given = _check_options(system, t, rub_engaged, unbalance, cage_samples, method, equilibrium)
     names = tuple(system.coordinate_names)
     n = len(names)
@@ -202,7 +205,7 @@ def natural_frequencies(system, *, t=0.0, equilibrium=True, rub_engaged=None, un
     Parameters
     ----------
     system : rotorkit.System
-    t : float
+    t : float, str or pint.Quantity
         Time (s) of the operating point (manoeuvre loads, ball angles).
     equilibrium : bool or array_like of shape (n,)
         True (default): linearise at the static equilibrium
@@ -287,4 +290,7 @@ def natural_frequencies(system, *, t=0.0, equilibrium=True, rub_engaged=None, un
         frange[np.isnan(spread).any(axis=1)] = np.nan
     frange.setflags(write=False)
     object.__setattr__(modes, "frequency_range", frange)
+    from ..plotting.rotor import rotor_layout
+
+    object.__setattr__(modes, "layout", rotor_layout(system.model))  # for the mode-shape plots
     return modes

@@ -82,10 +82,10 @@ class StaticDeflection:
         return forces.get(f"x{station}", 0.0), forces.get(f"y{station}", 0.0)
 
     def table(self, length_units="um"):
-        """Deflection per station and the reactions, as plain text."""
-        from ..plotting.basic import LENGTH_UNITS
+        """Deflection per station and the reactions, as plain text (deflections in ``length_units``)."""
+        from ..units import display_factor
 
-        f = LENGTH_UNITS[length_units]
+        f = display_factor(length_units, "length", "length_units")
         lines = [f"{'station':>8}  {f'x ({length_units})':>14}  {f'y ({length_units})':>14}"]
         for s in self.stations:
             lines.append(f"{s:>8}  {self.deflection[f'x{s}'] * f:>14.5g}  {self.deflection[f'y{s}'] * f:>14.5g}")
@@ -96,11 +96,25 @@ class StaticDeflection:
                 lines.append(f"{label:>14}  {name:>10}  {value:>18.6g}")
         return "\n".join(lines)
 
-    def to_csv(self):
+    def to_csv(self, path=None):
+        """The deflection (m, rad) per coordinate, then the reactions (N, N m); text, or written to ``path``."""
+        from .tables import csv_output
+
         rows = ["coordinate,deflection_m_or_rad"] + [f"{k},{v:.10g}" for k, v in self.deflection.items()]
         rows += ["", "element,coordinate,force_on_rotor_N"]
         rows += [f"{label},{k},{v:.10g}" for label, forces in self.reactions.items() for k, v in forces.items()]
-        return "\n".join(rows) + "\n"
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_dataframe(self):
+        """``(deflection, reactions)`` as two :class:`pandas.DataFrame` (by coordinate; by element and coordinate)."""
+        import pandas as pd
+
+        deflection = pd.DataFrame({"deflection": list(self.deflection.values())},
+                                  index=pd.Index(list(self.deflection), name="coordinate"))
+        rows = [(label, k, v) for label, forces in self.reactions.items() for k, v in forces.items()]
+        reactions = pd.DataFrame(rows, columns=["element", "coordinate", "force_on_rotor"]).set_index(
+            ["element", "coordinate"])
+        return deflection, reactions
 
     def plot(self, ax=None, **kwargs):
         """Deflection along the shaft (:func:`rotorkit.plotting.response.plot_static_deflection`)."""
@@ -125,7 +139,7 @@ def static_deflection(system, t=0.0, **equilibrium):
     Parameters
     ----------
     system : rotorkit.System
-    t : float
+    t : float, str or pint.Quantity
         Time (s) of the load (a manoeuvre's load at that instant; gravity).
     **equilibrium
         Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`.
@@ -149,7 +163,10 @@ def static_deflection(system, t=0.0, **equilibrium):
     from ..model import Context
     from ..symbolic.lagrange import Symbols
 
+    from ..units import to_si
+
     _check_system(system, "static_deflection")
+    t = to_si(t, "s", "t")
     q = static_equilibrium(system, t, **equilibrium)
     names = tuple(system.coordinate_names)
     model = system.model

@@ -19,8 +19,6 @@ is ``arg Q`` and the phase lag behind the unbalance is ``phi - arg Q``
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,20 +31,24 @@ __all__ = ["Unbalance", "UnbalanceResponse", "unbalance_response"]
 
 @dataclass(frozen=True, slots=True)
 class Unbalance:
-    """An unbalance ``magnitude`` (kg m) at ``station``, at ``angle`` (rad) from x at t = 0."""
+    """An unbalance ``magnitude`` (kg m) at ``station``, at ``angle`` (rad) from x at t = 0.
+
+    Both accept SI floats, pint quantities or strings: ``Unbalance(station=2,
+    magnitude="100 g*mm", angle="90 deg")`` (stored in kg m and rad).
+    """
 
     station: object
     magnitude: float
     angle: float = 0.0
 
     def __post_init__(self):
-        for name in ("magnitude", "angle"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
-                raise ParameterError(f"Unbalance {name}={v!r} is invalid: expected a finite number "
-                                     f"({'kg m' if name == 'magnitude' else 'rad'})")
-        if self.magnitude < 0:
+        from ..units import to_si
+
+        magnitude = to_si(self.magnitude, "kg*m", "Unbalance magnitude")
+        if magnitude < 0:
             raise ParameterError(f"Unbalance magnitude={self.magnitude!r} is invalid: expected >= 0 (kg m)")
+        object.__setattr__(self, "magnitude", magnitude)
+        object.__setattr__(self, "angle", to_si(self.angle, "rad", "Unbalance angle"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -109,19 +111,91 @@ class UnbalanceResponse:
         semi-axes (m) and inclination (rad) of the ellipse."""
         return orbit(self.response(f"x{station}", rotor), self.response(f"y{station}", rotor))
 
-    def to_csv(self, station, rotor=None):
-        """CSV text: speed, x and y amplitude (m) and phase (deg), forward/backward radii, ellipse."""
-        rotor = self._rotor(rotor)
+    def _station_or_path(self, value):
+        """``(station, path)`` from to_csv's first argument: a station of the model (the old call), else a path."""
+        import os
+
+        if value is None:
+            return None, None
+        if isinstance(value, bool):
+            raise ParameterError(f"path={value!r} is invalid: expected a file path or None")
+        if isinstance(value, int) or (isinstance(value, str) and f"x{value}" in self.coordinate_names
+                                      and not value.lower().endswith(".csv")):
+            return value, None
+        if isinstance(value, (str, os.PathLike)):
+            return None, value
+        raise ParameterError(f"path={value!r} is invalid: expected a file path (str or pathlib.Path) or None")
+
+    def _csv_rows(self, station, rotor, fs, fl):
         o = self.orbit(station, rotor)
         x, y = self.response(f"x{station}", rotor), self.response(f"y{station}", rotor)
-        rows = [f"{self.speed_parameter}_rad_s,frequency_rad_s,x_amplitude_m,x_phase_deg,y_amplitude_m,y_phase_deg,"
-                "forward_m,backward_m,major_m,minor_m,inclination_deg"]
         for i, w in enumerate(self.speeds):
-            rows.append(",".join(f"{v:.10g}" for v in (
-                w, self.frequencies[rotor][i], abs(x[i]), np.degrees(np.angle(x[i])), abs(y[i]),
-                np.degrees(np.angle(y[i])), o.forward[i], o.backward[i], o.major[i], o.minor[i],
-                np.degrees(o.inclination[i]))))
-        return "\n".join(rows) + "\n"
+            yield (w * fs, self.frequencies[rotor][i] * fs, abs(x[i]) * fl, np.degrees(np.angle(x[i])),
+                   abs(y[i]) * fl, np.degrees(np.angle(y[i])), o.forward[i] * fl, o.backward[i] * fl,
+                   o.major[i] * fl, o.minor[i] * fl, np.degrees(o.inclination[i]))
+
+    def to_csv(self, path=None, rotor=None, *, station=None, units="rad/s", length_units="m"):
+        """CSV: speed, x and y amplitude and phase (deg), forward/backward radii, ellipse axes and inclination.
+
+        Parameters
+        ----------
+        path : str or pathlib.Path, optional
+            Where to write; None returns the text. (A station given here, as
+            in ``to_csv(2)``, is read as ``station=2``.)
+        rotor : str, optional
+            Whose response (needed when several spools carry unbalance and a
+            station is given).
+        station : str or int, optional
+            One station's table; None: every station of every excited rotor,
+            with ``rotor`` and ``station`` columns first.
+        units : str
+            Speed and frequency units (``"rad/s"``, ``"Hz"``, ``"rpm"``, ...).
+        length_units : str
+            Amplitude units (``"m"``, ``"mm"``, ``"um"``, ...).
+
+        Returns
+        -------
+        str or pathlib.Path
+        """
+        from ..units import display_factor
+        from .modal import unit_slug
+        from .tables import csv_output
+
+        given, path = self._station_or_path(path)
+        station = given if station is None else station
+        fs, fl = display_factor(units, "speed"), display_factor(length_units, "length")
+        u, lu = unit_slug(units), unit_slug(length_units)
+        head = (f"{self.speed_parameter}_{u},frequency_{u},x_amplitude_{lu},x_phase_deg,y_amplitude_{lu},"
+                f"y_phase_deg,forward_{lu},backward_{lu},major_{lu},minor_{lu},inclination_deg")
+        if station is not None:
+            rotor = self._rotor(rotor)
+            rows = [head] + [",".join(f"{v:.10g}" for v in row) for row in self._csv_rows(station, rotor, fs, fl)]
+        else:
+            from .whirl import station_pairs
+
+            rows = ["rotor,station," + head]
+            rotors = [self._rotor(rotor)] if rotor is not None else list(self.components)
+            for r in rotors:
+                for s, _, _ in station_pairs(self.coordinate_names):
+                    rows += [f"{r},{s}," + ",".join(f"{v:.10g}" for v in row)
+                             for row in self._csv_rows(s, r, fs, fl)]
+        return csv_output("\n".join(rows) + "\n", path)
+
+    def to_xarray(self):
+        """Amplitudes (m, rad) and phases (rad) as an :class:`xarray.Dataset` over (speed, coordinate), per rotor."""
+        import xarray as xr
+
+        data = {}
+        for rotor, Q in self.components.items():
+            data[f"{rotor}_amplitude"] = (("speed", "coordinate"), np.abs(Q),
+                                          {"units": "m or rad", "long_name": f"amplitude at the spin of {rotor}"})
+            data[f"{rotor}_phase"] = (("speed", "coordinate"), np.angle(Q),
+                                      {"units": "rad", "long_name": f"phase at the spin of {rotor}"})
+            data[f"{rotor}_frequency"] = ("speed", self.frequencies[rotor],
+                                          {"units": "rad/s", "long_name": f"spin speed of {rotor}"})
+        coords = {"speed": ("speed", self.speeds, {"units": "rad/s", "long_name": self.speed_parameter}),
+                  "coordinate": list(self.coordinate_names)}
+        return xr.Dataset(data, coords=coords, attrs={"method": self.method})
 
     def plot_bode(self, coordinate, rotor=None, axes=None, **kwargs):
         """Amplitude and phase against speed (:func:`rotorkit.plotting.response.plot_bode`)."""
@@ -165,9 +239,11 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
         A system is linearised first (:func:`~rotorkit.analysis.linear_model.linear_model`
         with ``**linearisation``: speed, speed_parameter, ...).
     unbalances : Unbalance or sequence of Unbalance or (station, magnitude, angle)
-        Magnitudes in kg m, angles in rad; each belongs to its station's rotor.
-    speeds : array_like, shape (n_speeds,)
-        Swept speed (rad/s).
+        Magnitudes in kg m, angles in rad (or quantities, ``"100 g*mm"``);
+        each belongs to its station's rotor.
+    speeds : array_like, pint.Quantity or sequence of str, shape (n_speeds,)
+        Swept speed: rad/s as plain numbers, or with a unit
+        (``Q_(np.linspace(0, 15000, 301), "rpm")``).
     method : {"auto", "banded", "dense"}
         See :mod:`rotorkit.analysis.harmonic`.
 
@@ -188,15 +264,18 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
     from .harmonic import solve_harmonic
     from .linear_model import LinearModel, linear_model
 
+    from ..units import to_si_array
+
     if not isinstance(model, LinearModel):
+        if linearisation.get("speed") is not None:
+            from ..units import to_si
+
+            linearisation["speed"] = to_si(linearisation["speed"], "rad/s", "speed")
         model = linear_model(model, **linearisation)
     elif linearisation:
         raise TypeError(f"unbalance_response: unexpected keywords {sorted(linearisation)} for a LinearModel")
     items = _unbalances(unbalances)
-    try:
-        W = np.array(speeds, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"speeds={speeds!r} is invalid: expected speeds (rad/s)") from exc
+    W = to_si_array(speeds, "rad/s", "speeds").reshape(-1)
     if W.size == 0 or not np.all(np.isfinite(W)):
         raise ParameterError("speeds is empty or not finite: expected finite speeds (rad/s)")
     if method not in ("auto", "banded", "dense"):

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "tilt_pairs", "shape_whirl", "FORWARD", "BACKWARD",
-           "MIXED", "LINEAR"]
+__all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "tilt_pairs", "shape_whirl", "reference_length",
+           "FORWARD", "BACKWARD", "MIXED", "LINEAR"]
 
 FORWARD, BACKWARD, MIXED, LINEAR = "forward", "backward", "mixed", "linear"
 #: |F| and |B| within this relative margin: a straight-line (planar) orbit
@@ -78,9 +78,26 @@ class Orbit:
         return u * np.cos(th) - v * np.sin(th), u * np.sin(th) + v * np.cos(th)
 
 
+def _amplitudes(X, Y):
+    """``X``, ``Y`` as complex arrays in SI units: pint quantities of one dimension are converted (µm -> m)."""
+    from ..units import _is_quantity
+
+    if _is_quantity(X) or _is_quantity(Y):
+        from ..errors import UnitError
+
+        if not (_is_quantity(X) and _is_quantity(Y)) or X.dimensionality != Y.dimensionality:
+            raise UnitError(f"orbit: X = {X!r} and Y = {Y!r} must be quantities of one dimension (or both numbers)")
+        X, Y = X.to_base_units().magnitude, Y.to_base_units().magnitude
+    return np.asarray(X, dtype=complex), np.asarray(Y, dtype=complex)
+
+
 def orbit(X, Y):
-    """The :class:`Orbit` of complex amplitudes ``X``, ``Y`` (arrays broadcast)."""
-    X, Y = np.asarray(X, dtype=complex), np.asarray(Y, dtype=complex)
+    """The :class:`Orbit` of complex amplitudes ``X``, ``Y`` (arrays broadcast).
+
+    Numbers (m, rad, or relative for a mode shape) or pint quantities of one
+    dimension, converted to SI (the orbit is then in m or rad).
+    """
+    X, Y = _amplitudes(X, Y)
     F = (X + 1j * Y) / 2.0
     B = np.conj(X - 1j * Y) / 2.0
     f, b = np.abs(F), np.abs(B)
@@ -125,6 +142,15 @@ def slope_orbit(thx, thy):
     return orbit(np.asarray(thy, dtype=complex), -np.asarray(thx, dtype=complex))
 
 
+def reference_length(positions):
+    """The length (m) that weighs a tilt (rad) against a displacement: the span of the station positions, else 1 m."""
+    if positions:
+        span = max(positions.values()) - min(positions.values())
+        if span > 0:
+            return float(span)
+    return 1.0
+
+
 def shape_whirl(shapes, names, positions=None):
     """Whirl of each mode and of each station, from mode shapes.
 
@@ -149,10 +175,7 @@ def shape_whirl(shapes, names, positions=None):
     shapes = np.asarray(shapes, dtype=complex)
     k = shapes.shape[1]
     pairs, tilts = station_pairs(names), tilt_pairs(names)
-    length = 1.0
-    if positions:
-        span = max(positions.values()) - min(positions.values())
-        length = span if span > 0 else 1.0
+    length = reference_length(positions)
     kinds, sizes, owners = [], [], []
     for group, scale, make in ((pairs, 1.0, orbit), (tilts, length, slope_orbit)):
         if group:

@@ -33,8 +33,11 @@ def main(argv=None):
         args = build_parser().parse_args(argv)
     except SystemExit as exit_:  # argparse printed its usage message
         return int(exit_.code or 0)
+    from ..plotting.basic import standalone_figures
+
     try:
-        return args.func(args)
+        with standalone_figures():  # figures written to files: never on pyplot's current axes
+            return args.func(args)
     except RotorkitError as err:
         print(f"rotorkit: error: {err}", file=sys.stderr)
         return 2

@@ -1,7 +1,7 @@
 """``rotorkit campbell``: Campbell and stability diagrams, critical speeds, instability onset."""
 
 from .common import save_figure
-from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds, write_text
+from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds
 
 
 def register(sub):
@@ -16,15 +16,20 @@ def register(sub):
 def main(args):
     from ..analysis.campbell import campbell
 
+    given = parse_speeds(args.speeds, None) if args.speeds is not None else None  # checked before deriving
     system, parameter = compiled_scene(args)
-    speeds = parse_speeds(args.speeds, system.parameters[parameter])
+    speeds = given if given is not None else parse_speeds(None, system.parameters[parameter])
     diagram = campbell(system, speeds, n_modes=args.modes, speed_parameter=parameter, orders=args.orders,
                        cage_samples=args.cage_samples)
     out = output_folder(args, "campbell")
+    from ..units import display_factor
+
     print(diagram.table(units=args.units))
     onset = diagram.instability_onset
-    print("stable over the whole range" if onset is None else f"instability onset at {parameter} = {onset:.6g} rad/s")
-    write_text(out / "campbell.csv", diagram.to_csv(units=args.units))
+    shown = None if onset is None else onset * display_factor(args.units)
+    print("stable over the whole range (log decrements within rounding of zero count as zero)" if onset is None
+          else f"instability onset at {parameter} = {shown:.6g} {args.units}")
+    diagram.to_csv(out / "campbell.csv", units=args.units)
     save_figure(diagram.plot(units=args.units).figure, out / "campbell.png")
     save_figure(diagram.plot_stability(units=args.units).figure, out / "stability.png")
     print(f"wrote campbell.csv, campbell.png and stability.png to {out}")

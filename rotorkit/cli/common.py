@@ -142,6 +142,7 @@ class FileScene:
         from ..modelfile import read_model_file
 
         self.path = path
+        self.NAME = str(path)  # how errors name the scene
         self.model, run = read_model_file(path)
         self.DESCRIPTION = f"model file {path}"
         self.DEFAULTS = dict(self.model.parameters)

@@ -11,14 +11,17 @@ __all__ = ["add_linear_arguments", "output_folder", "parse_speeds", "write_text"
 def add_linear_arguments(parser, *, speeds=False):
     add_scene_arguments(parser)
     parser.add_argument("--out", help="output folder for figures and CSV (default rotorkit-out/<preset>)")
-    parser.add_argument("--units", default="rad/s", choices=("rad/s", "Hz", "rpm"),
-                        help="frequency and speed units of the printed table and the figures (default rad/s)")
+    parser.add_argument("--units", default="rad/s", type=_display_units, metavar="UNITS",
+                        help="frequency and speed units of the printed table, the CSV and the figures: rad/s "
+                             "(default), Hz, rpm or another angular speed")
     parser.add_argument("--backend", default="auto", choices=("auto", "c", "numba", "python"),
                         help="code back end (auto: c when a C compiler is found, else numba when installed)")
     parser.add_argument("--speed-parameter", help="swept rotor speed, e.g. LP_speed (default: the first rotor's)")
     if speeds:
         parser.add_argument("--speeds", default=None, metavar="START:STOP:COUNT",
-                            help="swept speeds in rad/s, e.g. 200:3000:15 (default: 0.1 to 2 x the current speed)")
+                            help="swept speeds, rad/s unless a unit is given, e.g. 200:3000:15 or "
+                                 "'0:15000 rpm:31' (a unit on START or STOP applies to both; "
+                                 "default: 0.1 to 2 x the current speed)")
 
 
 def output_folder(args, name):
@@ -27,17 +30,52 @@ def output_folder(args, name):
     return out
 
 
+def _display_units(text):
+    import argparse
+
+    from ..errors import UnitError
+    from ..units import display_factor
+
+    try:
+        display_factor(text, "speed", "--units")
+    except UnitError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+    return text
+
+
+def _speed_bound(text, unit, where):
+    """A bound of --speeds in rad/s: a number in ``unit`` (rad/s by default) or a quantity."""
+    from ..units import parse_quantity, to_si
+
+    value = parse_quantity(text.strip(), where)
+    if isinstance(value, float) and unit is not None:
+        return to_si(value * unit, "rad/s", where)
+    return to_si(text.strip(), "rad/s", where)
+
+
 def parse_speeds(text, default_top):
+    """``START:STOP:COUNT`` -> COUNT speeds (rad/s); START or STOP may carry a unit (``"0:15000 rpm:31"``)."""
     import numpy as np
+
+    from ..units import parse_quantity
 
     if text is None:
         top = max(float(default_top), 1.0)
         return np.linspace(0.1 * top, 2.0 * top, 20)
     parts = text.split(":")
+    hint = "expected START:STOP:COUNT in rad/s or with a unit, e.g. 200:3000:15 or '0:15000 rpm:31'"
+    if len(parts) != 3:
+        raise ParameterError(f"--speeds {text!r}: {hint}")
     try:
-        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-    except (ValueError, IndexError):
-        raise ParameterError(f"--speeds {text!r}: expected START:STOP:COUNT in rad/s, e.g. 200:3000:15") from None
+        count = int(parts[2])
+        given = [parse_quantity(p.strip(), "--speeds") for p in parts[:2]]
+    except ValueError:
+        raise ParameterError(f"--speeds {text!r}: {hint}") from None
+    units = {str(q.units) for q in given if not isinstance(q, float)}
+    if len(units) > 1:
+        raise ParameterError(f"--speeds {text!r}: START and STOP carry different units; give one")
+    unit = next((q.units for q in given if not isinstance(q, float)), None)
+    start, stop = (_speed_bound(p, unit, f"--speeds {text!r}") for p in parts[:2])
     if not (count >= 2 and stop > start >= 0):
         raise ParameterError(f"--speeds {text!r}: expected 0 <= START < STOP and COUNT >= 2")
     return np.linspace(start, stop, count)

@@ -1,7 +1,7 @@
 """``rotorkit modes``: modal analysis at the scene's operating point (log decrement, whirl, shapes)."""
 
 from .common import save_figure
-from .linear_common import add_linear_arguments, compiled_scene, output_folder, write_text
+from .linear_common import add_linear_arguments, compiled_scene, output_folder
 
 
 def register(sub):
@@ -10,6 +10,8 @@ def register(sub):
     p.add_argument("--rub-engaged", action="store_true", help="linearise with the rub contact engaged along the sag")
     p.add_argument("--shapes", type=int, default=4, help="number of mode-shape figures to write (default 4)")
     p.add_argument("--cage-samples", type=int, default=16, help="cage positions averaged (default 16)")
+    p.add_argument("--modes", type=int, default=8, dest="n_modes",
+                   help="number of modes printed (default 8; the CSV holds all)")
     p.set_defaults(func=main)
 
 
@@ -20,11 +22,14 @@ def main(args):
     modes = natural_frequencies(system, rub_engaged=True if args.rub_engaged else None,
                                 cage_samples=args.cage_samples)
     out = output_folder(args, "modes")
-    print(f"modes of {system.name} at {parameter} = {system.parameters[parameter]:g} rad/s")
-    print(modes.table(units=args.units))
-    write_text(out / "modes.csv", modes.to_csv(units=args.units))
+    from ..units import display_factor
+
+    speed = system.parameters[parameter] * display_factor(args.units)
+    print(f"modes of {system.name} at {parameter} = {speed:g} {args.units}")
+    print(modes.table(units=args.units, n_modes=args.n_modes))
+    modes.to_csv(out / "modes.csv", units=args.units)
     for mode in range(1, min(args.shapes, len(modes)) + 1):
-        save_figure(modes.plot_mode_shape(mode).figure, out / f"mode{mode}.png")
-        save_figure(modes.plot_orbits(mode).figure, out / f"mode{mode}_orbits.png")
+        save_figure(modes.plot_mode_shape(mode, units=args.units).figure, out / f"mode{mode}.png")
+        save_figure(modes.plot_orbits(mode, units=args.units).figure, out / f"mode{mode}_orbits.png")
     print(f"wrote {out / 'modes.csv'} and {min(args.shapes, len(modes))} mode-shape figures to {out}")
     return 0

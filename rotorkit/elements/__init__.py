@@ -7,7 +7,7 @@ from .bearing import BallBearing
 from .journal_bearing import JournalBearing
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
-from .masses import Disk, LumpedMass
+from .masses import Disk, DiskGeometry, LumpedMass
 from .pedestal import Pedestal
 from .material import Material
 from .rotor import Rotor
@@ -24,6 +24,7 @@ __all__ = [
     "BeamSegment",
     "Rotor",
     "Disk",
+    "DiskGeometry",
     "LumpedMass",
     "ShaftSegment",
     "ElasticSupport",

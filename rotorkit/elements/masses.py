@@ -9,7 +9,58 @@ from .base import Element, Terms
 from .base_motion import base_frame, tilt_kinetic
 from .rotor import check_station
 
-__all__ = ["Disk", "LumpedMass"]
+__all__ = ["Disk", "DiskGeometry", "LumpedMass"]
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class DiskGeometry:
+    """What :meth:`Disk.from_geometry` was given: a uniform annular disk of a material.
+
+    Kept on the disk so that a model file writes the geometry as it was
+    written (not only the mass and inertias it gives).
+
+    Attributes
+    ----------
+    width, outer_diameter, inner_diameter : float
+        (m), SI after construction.
+    material : Material
+    diametral : bool
+        Whether the disk has a diametral inertia (tilt coordinates).
+    """
+
+    width: float = None
+    outer_diameter: float = None
+    material: object = None
+    inner_diameter: float = 0.0
+    diametral: bool = True
+
+    _units = {"width": ("m", "positive"), "outer_diameter": ("m", "positive"),
+              "inner_diameter": ("m", "nonnegative")}
+
+    def __post_init__(self):
+        from ..units import to_si
+        from .material import Material
+
+        who = "DiskGeometry"
+        if not isinstance(self.material, Material):
+            raise ParameterError(f"{who}: material = {self.material!r}: expected a rotorkit Material, "
+                                 "e.g. Material.steel()")
+        for name, (unit, sign) in self._units.items():
+            object.__setattr__(self, name, to_si(getattr(self, name), unit, f"{who}: {name}", sign=sign))
+        if not self.inner_diameter < self.outer_diameter:
+            raise ParameterError(f"{who}: inner_diameter = {self.inner_diameter:g} m must be smaller than "
+                                 f"outer_diameter = {self.outer_diameter:g} m")
+        if not isinstance(self.diametral, (bool, np.bool_)):
+            raise ParameterError(f"{who}: diametral = {self.diametral!r} must be True or False")
+        object.__setattr__(self, "diametral", bool(self.diametral))
+
+    def properties(self):
+        """``{mass, polar_inertia, radius, diametral_inertia}`` (SI) of the uniform annular disk."""
+        ro, ri, w = self.outer_diameter / 2, self.inner_diameter / 2, self.width
+        mass = self.material.density * np.pi * (ro**2 - ri**2) * w
+        polar = mass * (ro**2 + ri**2) / 2
+        return {"mass": mass, "polar_inertia": polar, "radius": ro,
+                "diametral_inertia": polar / 2 + mass * w**2 / 12 if self.diametral else None}
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -68,6 +119,7 @@ class Disk(Element):
     phase: float = 0.0
     torsion: bool = False
     diametral_inertia: float | None = None
+    geometry: DiskGeometry | None = None
 
     _units = {
         "mass": ("kg", "positive"),
@@ -98,26 +150,35 @@ class Disk(Element):
         >>> round(d.mass, 2), round(d.polar_inertia, 4), round(d.diametral_inertia, 4)
         (32.59, 0.3296, 0.1781)
         """
-        from ..units import to_si
-        from .material import Material
+        geometry = DiskGeometry(width=width, outer_diameter=outer_diameter, inner_diameter=inner_diameter,
+                                material=material, diametral=diametral)  # checked there
+        return cls(station=station, geometry=geometry, eccentricity=eccentricity, phase=phase, torsion=torsion,
+                   name=name)
 
-        who = f"Disk.from_geometry at station {station!r}"
-        if not isinstance(material, Material):
-            raise ParameterError(f"{who}: material = {material!r}: expected a rotorkit Material, e.g. Material.steel()")
-        w = to_si(width, "m", f"{who}: width", sign="positive")
-        do = to_si(outer_diameter, "m", f"{who}: outer_diameter", sign="positive")
-        di = to_si(inner_diameter, "m", f"{who}: inner_diameter", sign="nonnegative")
-        if not di < do:
-            raise ParameterError(f"{who}: inner_diameter = {di:g} m must be smaller than outer_diameter = {do:g} m")
-        ro, ri = do / 2, di / 2
-        mass = material.density * np.pi * (ro**2 - ri**2) * w
-        polar = mass * (ro**2 + ri**2) / 2
-        return cls(station=station, mass=mass, polar_inertia=polar, radius=ro, eccentricity=eccentricity,
-                   phase=phase, torsion=torsion, name=name,
-                   diametral_inertia=polar / 2 + mass * w**2 / 12 if diametral else None)
+    #: the fields a geometry gives
+    _FROM_GEOMETRY = ("mass", "polar_inertia", "radius", "diametral_inertia")
+
+    def replace_parameters(self, **fields):
+        """A copy with some parameters changed; changing what the geometry gives drops the geometry."""
+        import dataclasses
+
+        if self.geometry is not None and any(f in fields for f in self._FROM_GEOMETRY):
+            fields["geometry"] = None
+        return dataclasses.replace(self, **fields)
 
     def _validate(self):
         object.__setattr__(self, "station", check_station("Disk", self.station, "station"))
+        if self.geometry is not None:
+            if not isinstance(self.geometry, DiskGeometry):
+                raise ParameterError(f"Disk at station {self.station!r}: geometry = {self.geometry!r}: expected a "
+                                     "DiskGeometry (use Disk.from_geometry)")
+            for name, value in self.geometry.properties().items():
+                given = getattr(self, name)
+                if given is None:
+                    object.__setattr__(self, name, value)
+                elif value is None or not np.isclose(given, value, rtol=1e-12, atol=0.0):
+                    raise ParameterError(f"Disk at station {self.station!r}: {name} = {given!r} disagrees with "
+                                         f"its geometry ({value!r}); give one or the other")
         if self.mass is None:
             raise ParameterError(f"Disk at station {self.station!r}: mass is required (kg)")
         if self.polar_inertia is None and self.radius is None:

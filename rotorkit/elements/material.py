@@ -62,6 +62,10 @@ class Material:
     poisson_ratio: float | None = None
     name: str | None = None
 
+    #: SI units of the quantities (model files write them with their unit)
+    _units = {"density": ("kg/m**3", "positive"), "youngs_modulus": ("Pa", "positive"),
+              "shear_modulus": ("Pa", "positive"), "poisson_ratio": ("", None)}
+
     def __post_init__(self):
         who = f"Material {self.name!r}" if self.name else "Material"
         for field_name, unit in (("density", "kg/m**3"), ("youngs_modulus", "Pa")):

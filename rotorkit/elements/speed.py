@@ -112,6 +112,9 @@ class SpeedProfile:
     angle_function: Callable | None = None
     constants: tuple = field(default=())  # (name, SI value) pairs of an expression profile
 
+    #: SI units of a table's columns (model files write them with their unit)
+    _units = {"times": ("s", None), "speeds": ("rad/s", None)}
+
     @classmethod
     def table(cls, times, speeds):
         """Piecewise-linear speed through ``(times[i], speeds[i])`` (s, rad/s), held constant outside."""

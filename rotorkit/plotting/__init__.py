@@ -1,7 +1,10 @@
 """Plotting functions: take data, ``ax=None``, return matplotlib objects.
 
-No pyplot state is touched: without ``ax`` a new ``matplotlib.figure.Figure``
-is made, so these work headless and never change global settings.
+matplotlib's convention: a plot draws on the given ``ax=`` or on pyplot's
+current axes (a new figure when none is open), so ``plt.savefig()`` after
+a plot call saves it; :func:`~rotorkit.plotting.basic.standalone_figures`
+keeps pyplot out of a program that writes many figures. No matplotlib
+setting is changed and pyplot is imported only when a plot is drawn.
 """
 
 from .basic import plot_orbit, plot_signals

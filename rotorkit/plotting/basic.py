@@ -1,20 +1,91 @@
-"""Axis orbits and time histories."""
+"""Axis orbits and time histories, and where every plot function draws.
+
+Plot functions follow matplotlib's convention: given ``ax=`` they draw
+there; without it they draw through pyplot, so ``plt.savefig()`` and
+``plt.show()`` after a plot call work as with any matplotlib function. They
+use the current axes when nothing is drawn on them yet (after
+``plt.figure()``, ``plt.subplots()`` or ``plt.sca(ax)``), else a new pyplot
+figure of the plot's own size, which becomes the current one: two plot
+calls in a row never draw over each other (pass ``ax=`` to overlay).
+Inside :func:`standalone_figures` (the command line uses it) they draw on
+new ``matplotlib.figure.Figure`` objects that pyplot never sees instead.
+pyplot is imported only when a plot is drawn, never at import.
+"""
+
+import contextlib
+import contextvars
 
 import numpy as np
 
-__all__ = ["plot_orbit", "plot_signals", "new_axes", "signal_unit", "scaled_unit", "LENGTH_UNITS"]
+__all__ = ["plot_orbit", "plot_signals", "new_axes", "new_axes_pair", "standalone_figures", "signal_unit",
+           "scaled_unit", "LENGTH_UNITS"]
 
 #: output length units -> factor from metres
 LENGTH_UNITS = {"m": 1.0, "mm": 1e3, "um": 1e6}
 
+_STANDALONE = contextvars.ContextVar("rotorkit_standalone_figures", default=False)
 
-def new_axes(ax=None, figsize=(6.0, 4.0)):
-    """``ax`` itself, or the axes of a new Figure (no pyplot)."""
+
+@contextlib.contextmanager
+def standalone_figures():
+    """Within the block, plots without ``ax=`` go on new standalone Figures, not on pyplot's current axes.
+
+    For programs that write many figures (the command line): no pyplot
+    state, nothing to close, no figure drawn over another.
+    """
+    token = _STANDALONE.set(True)
+    try:
+        yield
+    finally:
+        _STANDALONE.reset(token)
+
+
+def _new_figure(figsize):
+    if _STANDALONE.get():
+        from matplotlib.figure import Figure
+
+        return Figure(figsize=figsize, layout="constrained")
+    import matplotlib.pyplot as plt
+
+    return plt.figure(figsize=figsize, layout="constrained")
+
+
+def _current_figure():
+    """pyplot's current figure, or None (none open, or standalone figures wanted)."""
+    if _STANDALONE.get():
+        return None
+    import matplotlib.pyplot as plt
+
+    return plt.gcf() if plt.get_fignums() else None
+
+
+def new_axes(ax=None, figsize=(6.0, 4.0), projection=None):
+    """``ax`` itself, else pyplot's current axes if empty and of the kind asked, else the axes of a new figure.
+
+    ``projection``: ``None`` for ordinary 2-D axes, ``"3d"``. An empty
+    current figure gets a subplot of that kind. See the module notes.
+    """
     if ax is not None:
         return ax
-    from matplotlib.figure import Figure
+    fig = _current_figure()
+    if fig is not None:
+        if not fig.axes:
+            return fig.add_subplot(projection=projection)
+        current = fig.gca()
+        if current.name == (projection or "rectilinear") and not current.has_data():
+            return current
+    return _new_figure(figsize).add_subplot(projection=projection)
 
-    return Figure(figsize=figsize, layout="constrained").add_subplot()
+
+def new_axes_pair(axes=None, figsize=(6.5, 5.0)):
+    """``axes`` itself, else two stacked axes sharing x, on the current figure if it is empty, else on a new one."""
+    if axes is not None:
+        return axes
+    fig = _current_figure()
+    if fig is None or fig.axes:
+        fig = _new_figure(figsize)
+    top = fig.add_subplot(2, 1, 1)
+    return top, fig.add_subplot(2, 1, 2, sharex=top)
 
 
 def legend_beside(ax, *args, fontsize=8, **kwargs):
@@ -24,12 +95,9 @@ def legend_beside(ax, *args, fontsize=8, **kwargs):
 
 
 def _factor(units):
-    try:
-        return LENGTH_UNITS[units]
-    except KeyError:
-        from ..errors import ParameterError
+    from ..units import display_factor
 
-        raise ParameterError(f"units={units!r} is unknown; expected one of {sorted(LENGTH_UNITS)}") from None
+    return display_factor(units, "length")
 
 
 def plot_orbit(result, station, ax=None, *, units="um", start=None, end=None, clearance=None, **line_kwargs):

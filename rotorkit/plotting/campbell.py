@@ -15,13 +15,10 @@ FREQUENCY_UNITS = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0
 WHIRL_STYLES = {"forward": "-", "backward": "--", "mixed": ":", "linear": "-.", "": ":"}
 
 
-def _factor(units):
-    try:
-        return FREQUENCY_UNITS[units]
-    except (KeyError, TypeError):
-        from ..errors import ParameterError
+def _factor(units, name="units"):
+    from ..units import display_factor
 
-        raise ParameterError(f"units={units!r} is unknown; expected one of {list(FREQUENCY_UNITS)}") from None
+    return display_factor(units, "speed", name)
 
 
 def _segments(x, y, kinds):

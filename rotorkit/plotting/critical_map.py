@@ -1,14 +1,10 @@
 """Critical speed map (:mod:`rotorkit.analysis.critical_map`)."""
 
-import math
-
 import numpy as np
 
 from .basic import legend_beside, new_axes
 
 __all__ = ["plot_critical_speed_map"]
-
-_SPEED = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
 
 
 def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
@@ -27,11 +23,9 @@ def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
     -------
     matplotlib.axes.Axes
     """
-    if units not in _SPEED:
-        from ..errors import ParameterError
+    from ..units import display_factor
 
-        raise ParameterError(f"units={units!r} is unknown; expected one of {list(_SPEED)}")
-    f = _SPEED[units]
+    f = display_factor(units, "speed")
     ax = new_axes(ax, figsize=(6.0, 4.5))
     for j in range(cmap.speeds.shape[1]):
         ax.loglog(cmap.stiffnesses, cmap.speeds[:, j] * f, "-", color=f"C{j % 10}", lw=1.4,

@@ -1,32 +1,22 @@
 """Bode, polar and FRF plots (:mod:`rotorkit.analysis.unbalance`, :mod:`rotorkit.analysis.frf`)."""
 
-import math
-
 import numpy as np
 
-from .basic import LENGTH_UNITS, legend_beside, new_axes
+from .basic import legend_beside, new_axes, new_axes_pair
 
 __all__ = ["plot_unbalance_bode", "plot_unbalance_polar", "plot_frf", "plot_static_deflection"]
 
-_SPEED = {"rad/s": 1.0, "Hz": 1.0 / (2.0 * math.pi), "rpm": 60.0 / (2.0 * math.pi)}
+_SPEED, LENGTH_UNITS = "speed", "length"
 
 
-def _check(table, units, name="units"):
-    if units not in table:
-        from ..errors import ParameterError
+def _check(kind, units, name="units"):
+    from ..units import display_factor
 
-        raise ParameterError(f"{name}={units!r} is unknown; expected one of {list(table)}")
-    return table[units]
+    return display_factor(units, kind, name)
 
 
 def _two_axes(axes, figsize=(6.5, 5.0)):
-    if axes is not None:
-        return axes
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=figsize, layout="constrained")
-    top = fig.add_subplot(2, 1, 1)
-    return top, fig.add_subplot(2, 1, 2, sharex=top)
+    return new_axes_pair(axes, figsize)
 
 
 def plot_unbalance_bode(response, coordinate, *, rotor=None, axes=None, units="rad/s", length_units="um",
@@ -103,7 +93,7 @@ def plot_frf(frf, output, input, *, axes=None, units="rad/s"):
     x = frf.frequencies * fs
     top.semilogy(x, np.abs(H), lw=1.3)
     top.set_ylabel(f"|{frf.kind}| ({frf.units})")
-    top.set_title(f"{frf.kind} {output}/{input} at speed {frf.speed:g} rad/s")
+    top.set_title(f"{frf.kind} {output}/{input} at speed {frf.speed * fs:.6g} {units}")
     bottom.plot(x, np.degrees(np.angle(H)), lw=1.3)
     bottom.set_ylabel("phase (deg)")
     bottom.set_xlabel(f"frequency ({units})")

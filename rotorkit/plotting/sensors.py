@@ -1,6 +1,7 @@
 """Plots of sensor signals (:mod:`rotorkit.sensors`): probe orbit, time histories, waterfalls.
 
-Every function takes ``ax=None`` (a new Figure, no pyplot) and returns the Axes.
+Every function draws on ``ax=`` or, without it, on pyplot's current axes (see :mod:`rotorkit.plotting.basic`)
+and returns the Axes.
 """
 
 import numpy as np

@@ -13,8 +13,8 @@ The figures of the paper's Section 3 (Figs. 9-16):
 
 Order lines mark frequencies of interest (``{"1/2 low": 750.0, ...}``, in
 the data's frequency units); :func:`speed_orders` gives the paper's set.
-Every function takes ``ax=None`` (a new Figure is made, no pyplot) and
-returns the Axes.
+Every function draws on ``ax=`` or, without it, on pyplot's current axes
+(see :mod:`rotorkit.plotting.basic`) and returns the Axes.
 """
 
 import math
@@ -119,9 +119,7 @@ def _check_scale(scale):
 
 def _axes_3d(ax, figsize=(7.5, 5.5)):
     if ax is None:
-        from matplotlib.figure import Figure
-
-        ax = Figure(figsize=figsize, layout="constrained").add_subplot(projection="3d")
+        ax = new_axes(None, figsize=figsize, projection="3d")
         ax.view_init(elev=30.0, azim=-65.0)
         return ax
     if getattr(ax, "name", None) != "3d":
