@@ -18,6 +18,7 @@ from .simulate import simulate  # eager: the function must win over the submodul
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment"), "elements"),
+    **dict.fromkeys(("IntershaftRub",), "elements"),
     "Model": "model",
     "load_model": "modelfile",
     "preset": "presets",
@@ -56,6 +57,7 @@ __all__ = [
     "ElasticSupport",
     "BallBearing",
     "RubStator",
+    "IntershaftRub",
     "Maneuver",
     "Model",
     "load_model",

@@ -12,6 +12,7 @@ from .material import Material
 from .rotor import Rotor
 from .rub import RubStator
 from .shaft import ShaftSegment
+from .intershaft_rub import IntershaftRub
 from .speed import SpeedProfile
 from .support import ElasticSupport
 
@@ -32,4 +33,5 @@ __all__ = [
     "LinearBearing",
     "Pedestal",
     "BaseRotation",
+    "IntershaftRub",
 ]

@@ -10,7 +10,7 @@ from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
 from .speed import SpeedProfile
 
-__all__ = ["Rotor", "check_station"]
+__all__ = ["Rotor", "check_station", "torque_targets"]
 
 
 def check_station(owner, station, field="station"):
@@ -20,6 +20,29 @@ def check_station(owner, station, field="station"):
     if isinstance(station, str) and station.isidentifier():
         return station
     raise ParameterError(f"{owner}: {field} = {station!r}: expected a station (a non-negative int or an identifier string)")
+
+
+def torque_targets(ctx, station):
+    """Coordinate symbol -> factor: where a torque about +z on ``station``'s cross-section does work.
+
+    A torque ``M`` on the section at ``station`` loads its torsional
+    coordinate ``alpha`` (if it has one) with ``M`` and, if the speed of its
+    rotor is a degree of freedom (a :class:`~rotorkit.elements.drive.Drive`,
+    possibly through ``speed_ratio`` gearing ``gamma``), the rotor's spin
+    coordinate with ``gamma M``. Empty when the station turns at a prescribed
+    speed without torsion (the drive absorbs the torque).
+    """
+    out = {}
+    alpha = ctx.coord(station, "alpha", drive=True)[0]
+    if alpha != 0:
+        out[alpha] = 1
+    factor, rotor = 1, ctx.model.rotor_of(station)
+    while rotor.speed is None:
+        factor = factor * ctx.parameter(rotor, "speed_ratio")
+        rotor = ctx.model.rotors[rotor.reference]
+    if rotor.drive is not None:
+        out[ctx.coord(rotor.stations[0], "spin")[0]] = factor
+    return out
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -145,6 +168,11 @@ class Rotor(Element):
     def profile(self):
         """The :class:`SpeedProfile`, or None for a constant speed or a ratio."""
         return self.speed if isinstance(self.speed, SpeedProfile) else None
+
+    @property
+    def drive(self):
+        """The :class:`~rotorkit.elements.drive.Drive` (speed a degree of freedom), or None."""
+        return None
 
     def parameters(self):
         if self.profile is None:
