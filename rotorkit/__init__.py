@@ -18,7 +18,7 @@ from .simulate import simulate  # eager: the function must win over the submodul
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment"), "elements"),
-    **dict.fromkeys(("IntershaftRub",), "elements"),
+    **dict.fromkeys(("IntershaftRub", "Drive"), "elements"),
     "Model": "model",
     "load_model": "modelfile",
     "preset": "presets",
@@ -58,6 +58,7 @@ __all__ = [
     "BallBearing",
     "RubStator",
     "IntershaftRub",
+    "Drive",
     "Maneuver",
     "Model",
     "load_model",

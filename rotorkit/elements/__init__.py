@@ -13,6 +13,7 @@ from .rotor import Rotor
 from .rub import RubStator
 from .shaft import ShaftSegment
 from .intershaft_rub import IntershaftRub
+from .drive import Drive
 from .speed import SpeedProfile
 from .support import ElasticSupport
 
@@ -34,4 +35,5 @@ __all__ = [
     "Pedestal",
     "BaseRotation",
     "IntershaftRub",
+    "Drive",
 ]
