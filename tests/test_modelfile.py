@@ -47,6 +47,12 @@ def sink_model():
         rk.elements.LinearBearing(station=4, kxx=1e5, kyy=1e5, ktxx=2e3, ktyy=3e3, ktxy=100.0, ctyy=0.5),
         rk.elements.LinearBearing(station=3, other_station="h", kxx=1e5, kyy=1e5, cxy=3.0, cyx=-3.0),
         rk.elements.BaseRotation(rate_y=0.5, center_x=-800.0, axial_positions={1: 0.1, 2: 0.4}),
+        rk.Rotor(name="IP", stations=("i",), speed=rk.Drive.motor(speeds=[0.0, 800.0], torques=[5.0, 1.0],
+                                                                  initial_speed=400.0, polar_inertia=0.01)),
+        rk.LumpedMass(station="i", mass=4.0),
+        rk.ElasticSupport(station="i", stiffness=1e6),
+        rk.IntershaftRub(inner_station=2, outer_station="i", clearance=2e-4, contact_stiffness=5e6,
+                         friction_coefficient=0.1, contact_radius=0.05),
     ], name="sink")
 
 
