@@ -178,6 +178,26 @@ def test_sommerfeld_effect_capture_below_the_critical_speed_and_passage_with_mor
 
 
 # ---------------------------------------------------------------------------
+# linear analyses: at the frozen initial speed
+# ---------------------------------------------------------------------------
+
+
+def test_linear_analyses_freeze_a_driven_rotor_at_its_initial_speed():
+    from rotorkit.analysis.campbell import campbell
+    from rotorkit.analysis.linear_matrices import frozen_speed_model
+    from rotorkit.analysis.modes import natural_frequencies
+
+    model = jeffcott(rk.Drive.constant(torque=0.4, initial_speed=50.0, drag=B))
+    frozen = frozen_speed_model(model)
+    assert frozen.coordinate_names == ("x1", "y1") and frozen.parameters["R_speed"] == 50.0
+    table = campbell(model, speeds=[0.0, 100.0], n_modes=2)
+    # Jeffcott: the damped frequency sqrt(wn^2 - (c / 2m)^2) at every speed
+    assert np.allclose(table.frequencies, math.sqrt(WN**2 - (DAMPING / (2 * MASS)) ** 2), rtol=1e-9)
+    with pytest.raises(rk.ParameterError, match="degree of freedom.*frozen_speed_model"):
+        natural_frequencies(model.compile())
+
+
+# ---------------------------------------------------------------------------
 # bad input
 # ---------------------------------------------------------------------------
 
