@@ -96,6 +96,29 @@ def test_large_inertia_balanced_torque_runs_like_the_constant_speed_rotor():
         assert np.max(np.abs(run[name] - ref[name])) < 1e-6 * np.max(np.abs(ref[name]))
 
 
+def test_geared_rotor_adds_ratio_squared_inertia_and_rub_torque_reaches_the_spin():
+    gamma, j_hp, mu, r_rub = 2.0, 0.03, 0.2, 0.05
+    model = rk.Model([
+        rk.Rotor(name="LP", stations=(1,), speed=rk.Drive.constant(torque=1.0, initial_speed=10.0, polar_inertia=0.1)),
+        rk.Rotor(name="HP", stations=(2,), speed_ratio=gamma, reference="LP"),
+        rk.Disk(station=1, mass=MASS, radius=RADIUS),
+        rk.Disk(station=2, mass=1.0, polar_inertia=j_hp),
+        rk.ElasticSupport(station=1, stiffness=STIFFNESS), rk.ElasticSupport(station=2, stiffness=STIFFNESS),
+        rk.RubStator(station=2, clearance=1e-4, contact_stiffness=1e6, friction_coefficient=mu, contact_radius=r_rub),
+    ])
+    eom = model.equations()
+    values = {P(n): v for n, v in model.parameters.items()}
+    spin = eom.coordinates.index(P("spin1"))
+    # J = drive + LP disk + gamma^2 HP disk (no unbalance)
+    assert float(eom.mass_matrix[spin, spin].xreplace(values)) == pytest.approx(0.1 + J_DISK + gamma**2 * j_hp)
+    # the HP rub's friction torque -mu N R, geared: gamma times it on the LP spin (x2 = 3e-4: N = k_r 2e-4)
+    load = eom.forces["rub2"][spin].xreplace(values).xreplace({P("x2"): 3e-4, P("y2"): 0.0})
+    from rotorkit.symbolic.functions import ramp
+
+    load = load.replace(ramp, lambda x: sp.Max(x, 0))
+    assert float(load) == pytest.approx(-gamma * mu * r_rub * 1e6 * 2e-4)
+
+
 # ---------------------------------------------------------------------------
 # closed forms of the spin equation (no unbalance)
 # ---------------------------------------------------------------------------
