@@ -119,6 +119,38 @@ def test_geared_rotor_adds_ratio_squared_inertia_and_rub_torque_reaches_the_spin
     assert float(load) == pytest.approx(-gamma * mu * r_rub * 1e6 * 2e-4)
 
 
+def test_driven_beam_rotor_equals_whole_system_lagranges_method():
+    """Gyroscopic beam sections and a tilting disk on a driven rotor: every spin coupling of T, derived in full."""
+    from sympy.physics.mechanics import LagrangesMethod, dynamicsymbols
+
+    steel = rk.elements.Material.steel()
+    model = rk.Model([
+        rk.Rotor(name="R", stations=(1, 2), speed=rk.Drive.constant(torque=0.0, initial_speed=100.0,
+                                                                    polar_inertia=0.01)),
+        rk.elements.BeamSegment(start=1, end=2, length=0.6, outer_diameter=0.04, material=steel, elements=1),
+        rk.Disk.from_geometry(station=2, width=0.02, outer_diameter=0.2, material=steel, eccentricity=1e-4),
+        rk.ElasticSupport(station=1, stiffness=1e6), rk.ElasticSupport(station=2, stiffness=8e5),
+    ])
+    eom = model.equations()
+    assert eom.n == 9 and P("spin1") in eom.coordinates
+    # numbers (exact rationals) for everything; the drive's torque and losses are 0, so the loads vanish
+    numbers = {p: sp.nsimplify(model.parameters[str(p)], rational=True) for p in eom.parameters}
+    assert all(v.xreplace(numbers) == 0 for v in eom.loads)
+    qt = [dynamicsymbols(str(q)) for q in eom.coordinates]
+    to_t = {**dict(zip(eom.coordinates, qt)), **{u: sp.diff(q, dynamicsymbols._t) for u, q in zip(eom.speeds, qt)}}
+    lagrangian = (eom.kinetic - eom.potential).xreplace(numbers).subs(eom.t, dynamicsymbols._t).subs(to_t)
+    lm = LagrangesMethod(lagrangian, qt)
+    lm.form_lagranges_equations()
+    back = {v: k for k, v in to_t.items()}
+    mass = lm.mass_matrix.subs(back).subs(dynamicsymbols._t, eom.t)
+    forcing = lm.forcing.subs(back).subs(dynamicsymbols._t, eom.t)
+    spin = eom.coordinates.index(P("spin1"))
+    assert any(mass[spin, j] != 0 for j in range(eom.n) if j != spin)  # the spin couples to the motion
+    same = lambda a, b: sp.trigsimp(sp.expand(a - b)) == 0  # noqa: E731  (sin^2 + cos^2 of the unbalance)
+    assert all(same(mass[i, j], eom.mass_matrix[i, j].xreplace(numbers)) for i in range(eom.n) for j in range(eom.n))
+    assert all(same(forcing[i], eom.forcing[i].xreplace(numbers)) for i in range(eom.n))
+
+
 # ---------------------------------------------------------------------------
 # closed forms of the spin equation (no unbalance)
 # ---------------------------------------------------------------------------

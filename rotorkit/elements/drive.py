@@ -18,10 +18,12 @@ give the spin equation ::
     (J + sum m e^2) Omega' = T_drive(Omega, t) - T_loss(Omega) + (rub torques) + (unbalance coupling)
 
 with ``J`` the polar inertia of the rotor's parts: ``polar_inertia`` of
-the drive (motor, shaft) plus the disks of the rotor and of rotors geared
-to it (``speed_ratio`` ``gamma``: ``gamma^2 J``). Disks with torsion turn at
-``phi + alpha``: the torque reaches the rest of the rotor through the
-torsional shafts. The losses are ``T_loss = drag Omega + windage Omega |Omega|``.
+the drive (motor, shaft: beam elements' own polar inertia is not added)
+plus the disks of the rotor and of rotors geared to it (``speed_ratio``
+``gamma``: ``gamma^2 J``). Beam elements keep their gyroscopic coupling,
+derived in full (``rotorkit.symbolic.lagrange._state_gyroscopics``).
+Disks with torsion turn at ``phi + alpha``: the torque reaches the rest of
+the rotor through the torsional shafts. The losses are ``T_loss = drag Omega + windage Omega |Omega|``.
 
 The drive torque ``T_drive``, one of:
 
@@ -305,16 +307,9 @@ class Drive:
 
     # -- the rotor's terms -------------------------------------------------
     def check(self, rotor, model):
-        """The rotor's drive: some polar inertia, and no spin-dependent finite-element gyroscopics."""
+        """The rotor's drive needs some polar inertia (a disk on it or ``polar_inertia``)."""
         driven = [r for r in model.rotors.values() if _root(model, r) is rotor]
         stations = {s for r in driven for s in r.stations}
-        for e in model.elements:
-            if getattr(e, "gyroscopic", False) is True and set(e.attached_stations()) & stations:
-                raise TopologyError(
-                    f"Rotor {rotor.name!r}: its speed is a degree of freedom (Drive), but {type(e).__name__} "
-                    f"{e.label()!r} has gyroscopic=True, whose finite-element form holds a prescribed speed; "
-                    "give it gyroscopic=False (rigid disks with diametral_inertia keep their gyroscopic terms)"
-                )
         if self.polar_inertia == 0 and not any(s in stations for s in model.disks):
             raise TopologyError(
                 f"Rotor {rotor.name!r}: its speed is a degree of freedom (Drive) but nothing gives it polar "
