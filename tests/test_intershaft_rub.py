@@ -6,7 +6,10 @@
   with a very stiff outer station follows the stator run.
 - Momentum: the contact forces on the two stations are equal and opposite
   at every sample (evaluated from the derived loads on the simulated states).
-- Energy: the energy balance of :mod:`rotorkit.analysis.energy` closes, and
+- Energy: with both spins free (speed degrees of freedom, no drive torque)
+  the total energy falls by exactly the friction's ``mu N |sliding speed|``
+  plus the damping, computed by hand on the samples; the energy balance of
+  :mod:`rotorkit.analysis.energy` closes, and
   the work of the rub's loads equals, independently, the loss of the contact
   spring energy ``k_r max(r - delta, 0)^2 / 2`` minus the friction power
   ``mu N s (t . d' + R alpha_i' - (R + delta) alpha_o')`` on the sampled
@@ -186,6 +189,44 @@ def test_energy_balance_closes_and_rub_work_is_contact_energy_less_friction_loss
     work = balance.work["intershaftrub1_9"]
     assert np.max(spring) > 1e-5  # the contact stores energy at times
     assert np.max(np.abs(work - expected)) < 2e-3 * np.max(np.abs(expected))
+
+
+def test_friction_work_is_dissipated_between_two_free_spinning_spools():
+    """Both spins free (Drive with no torque): the energy lost is the friction's mu N |sliding| and the damping."""
+    j_in, j_out, w_in, w_out = 0.5, 1.0, 300.0, -200.0  # counter-rotating; inertias that keep them sliding
+    model = rk.Model([
+        rk.Rotor(name="R", stations=(1,), speed=rk.Drive.constant(torque=0.0, initial_speed=w_in, polar_inertia=j_in)),
+        rk.Rotor(name="S", stations=(9,), speed=rk.Drive.constant(torque=0.0, initial_speed=w_out,
+                                                                  polar_inertia=j_out)),
+        rk.LumpedMass(station=1, mass=4.0), rk.ElasticSupport(station=1, stiffness=2e5, damping=5.0),
+        rk.LumpedMass(station=9, mass=3.0), rk.ElasticSupport(station=9, stiffness=4e5, damping=5.0),
+        rub(),
+    ])
+    system = model.compile()
+    # 15 ms: later the friction drives a backward whirl that grows (dry-friction whip)
+    result = rk.simulate(system, (0.0, 0.015), y0=system.initial_state(x1=3e-4, y1_dot=0.05), rtol=1e-11,
+                         atol=1e-14, sample_rate=200_000)
+    t = result.t
+    om_in, om_out = w_in + result["spin1_dot"], w_out + result["spin9_dot"]
+    dx, dy = result["x1"] - result["x9"], result["y1"] - result["y9"]
+    vx, vy = result["x1_dot"] - result["x9_dot"], result["y1_dot"] - result["y9_dot"]
+    r = np.hypot(dx, dy)
+    pen = np.maximum(r - CLEARANCE, 0.0)
+    energy = (4.0 * (result["x1_dot"] ** 2 + result["y1_dot"] ** 2) + 3.0 * (result["x9_dot"] ** 2 + result["y9_dot"] ** 2)
+              + j_in * om_in**2 + j_out * om_out**2 + 2e5 * (result["x1"] ** 2 + result["y1"] ** 2)
+              + 4e5 * (result["x9"] ** 2 + result["y9"] ** 2) + KR * pen**2) / 2
+    sliding = om_in * RADIUS - om_out * (RADIUS + CLEARANCE)  # > 0 throughout: s = +1
+    tangential = (-dy * vx + dx * vy) / np.where(r > 0, r, 1.0)
+    friction = MU * KR * pen * (sliding + tangential)  # mu N times the sliding speed of the material points
+    damping = 5.0 * (result["x1_dot"] ** 2 + result["y1_dot"] ** 2 + result["x9_dot"] ** 2 + result["y9_dot"] ** 2)
+    from scipy.integrate import cumulative_trapezoid
+
+    lost = cumulative_trapezoid(friction + damping, t, initial=0.0)
+    assert np.all(sliding > 0) and np.max(pen) > 0
+    assert lost[-1] > 1.0  # J: the friction worked
+    assert np.max(np.abs(energy - energy[0] + lost)) < 1e-5 * lost[-1]
+    # the friction torques slow both spools (the outer one turns the other way: its speed rises towards 0)
+    assert om_in[-1] < w_in and om_out[-1] > w_out
 
 
 # ---------------------------------------------------------------------------
