@@ -212,7 +212,8 @@ def test_friction_work_is_dissipated_between_two_free_spinning_spools():
     vx, vy = result["x1_dot"] - result["x9_dot"], result["y1_dot"] - result["y9_dot"]
     r = np.hypot(dx, dy)
     pen = np.maximum(r - CLEARANCE, 0.0)
-    energy = (4.0 * (result["x1_dot"] ** 2 + result["y1_dot"] ** 2) + 3.0 * (result["x9_dot"] ** 2 + result["y9_dot"] ** 2)
+    energy = (4.0 * (result["x1_dot"] ** 2 + result["y1_dot"] ** 2)
+              + 3.0 * (result["x9_dot"] ** 2 + result["y9_dot"] ** 2)
               + j_in * om_in**2 + j_out * om_out**2 + 2e5 * (result["x1"] ** 2 + result["y1"] ** 2)
               + 4e5 * (result["x9"] ** 2 + result["y9"] ** 2) + KR * pen**2) / 2
     sliding = om_in * RADIUS - om_out * (RADIUS + CLEARANCE)  # > 0 throughout: s = +1
