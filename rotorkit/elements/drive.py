@@ -91,10 +91,11 @@ class Drive:
     """A rotor speed that is a degree of freedom, driven by a torque; give it as ``Rotor(speed=...)``.
 
     Build one with :meth:`constant`, :meth:`motor`, :meth:`expression` or
-    :meth:`controller` (see the module docstring for the equations).
+    :meth:`controller` (see the module docstring for the equations); the
+    keywords below are common to all of them.
 
-    Parameters (common to all)
-    --------------------------
+    Parameters
+    ----------
     initial_speed : float, pint.Quantity or str
         ``Omega_0`` (rad/s): the speed at ``spin' = 0``, where a state of zeros starts.
     polar_inertia : float or pint.Quantity
