@@ -426,8 +426,9 @@ class Context:
         return ratio * rotor.angle_expression(self.t, self._symbols.parameter)
 
     def speed_is_constant(self, station):
-        """Whether the station's rotor spins at a constant speed (no speed profile)."""
-        return self._root(station)[1].profile is None
+        """Whether the station's rotor spins at a constant speed (no speed profile, no speed degree of freedom)."""
+        rotor = self._root(station)[1]
+        return rotor.profile is None and rotor.drive is None
 
     def parameter(self, element, field_name):
         """The parameter symbol of another element's field."""

@@ -102,7 +102,7 @@ def _print_progress(fraction, t):
 
 
 #: coordinate name prefixes that are not lateral displacements in m: torsion angles, tilts, modal coordinates
-NOT_DISPLACEMENTS = ("alpha", "thx", "thy", "eta")
+NOT_DISPLACEMENTS = ("alpha", "thx", "thy", "eta", "spin")  # spin: a driven rotor's spin angle (rad)
 
 
 def _bending_rows(system):

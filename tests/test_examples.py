@@ -63,6 +63,22 @@ def test_two_disk_rotor_example(tmp_path):
         assert (tmp_path / "figs" / name).stat().st_size > 10_000
 
 
+def test_al31f_intershaft_example(tmp_path):
+    """The faster HP bore drags the torque-driven LP spool forward through the inter-shaft rub."""
+    out = run(EXAMPLES / "al31f_intershaft.py", "--t-end", "0.2", cwd=tmp_path)
+    change = float(out.split("LP speed change by the rub:")[1].split()[0])
+    assert change > 1.0, out
+    assert "in contact" in out and "spin1" in out
+
+
+def test_sommerfeld_example(tmp_path):
+    """The smaller torque is captured below the critical speed (100 rad/s), the larger passes it."""
+    out = run(EXAMPLES / "sommerfeld.py", "--out", tmp_path / "figs", cwd=tmp_path)
+    finals = [float(line.split("speed at 6 s")[1].split()[0]) for line in out.splitlines() if "speed at 6 s" in line]
+    assert len(finals) == 2 and 90.0 < finals[0] < 100.0 and finals[1] > 200.0, out
+    assert (tmp_path / "figs" / "sommerfeld.png").stat().st_size > 10_000
+
+
 def test_every_example_is_run_by_a_test():
     source = Path(__file__).read_text()
     examples = [p.name for p in EXAMPLES.iterdir() if p.suffix in (".py", ".ipynb")]

@@ -52,6 +52,12 @@ def sink_model():
         rk.SqueezeFilmDamper(station=4, radius=0.05, length=0.015, clearance=2e-4, viscosity=0.01,
                              centring_stiffness=1e6, centring_damping=10.0, offset_y=-1e-5),
         rk.JournalBearing(station=1, radius=0.025, length=0.02, clearance=5e-5, viscosity=0.02, cavitation="full"),
+        rk.Rotor(name="IP", stations=("i",), speed=rk.Drive.motor(speeds=[0.0, 800.0], torques=[5.0, 1.0],
+                                                                  initial_speed=400.0, polar_inertia=0.01)),
+        rk.LumpedMass(station="i", mass=4.0),
+        rk.ElasticSupport(station="i", stiffness=1e6),
+        rk.IntershaftRub(inner_station=2, outer_station="i", clearance=2e-4, contact_stiffness=5e6,
+                         friction_coefficient=0.1, contact_radius=0.05),
     ], name="sink")
 
 

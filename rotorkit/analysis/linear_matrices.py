@@ -189,8 +189,11 @@ def linear_matrices(model, t=0.0, values=None):
 
 
 def _profile_speed(rotor, t):
-    """A profile rotor's speed (rad/s) at time ``t``."""
+    """A profile rotor's speed (rad/s) at time ``t`` (a driven rotor's: its initial speed)."""
     import sympy as sp
+
+    if rotor.drive is not None:
+        return rotor.drive.initial_speed
 
     from ..codegen.printer import RhsPrinter
 
@@ -211,12 +214,19 @@ def rotor_spin_speeds(model, t=0.0, values=None):
         while r.speed is None:
             factor *= values[f"{r.name}_speed_ratio"]
             r = rotors[r.reference]
+        if r.drive is not None:
+            out[name] = factor * values[f"{r.name}_speed_initial"]
+            continue
         out[name] = factor * (_profile_speed(r, t) if r.profile is not None else values[f"{r.name}_speed"])
     return out
 
 
 def frozen_speed_model(model, t=0.0, speeds=None):
     """``model`` with every speed-profile rotor turned into a constant-speed one (itself if there is none).
+
+    A rotor whose speed is a :class:`~rotorkit.elements.drive.Drive` (a
+    degree of freedom) is frozen at its ``initial_speed``: the linear
+    analyses hold the spin constant.
 
     Parameters
     ----------
@@ -232,7 +242,7 @@ def frozen_speed_model(model, t=0.0, speeds=None):
         If ``speeds`` names a rotor without a speed profile.
     """
     speeds = dict(speeds or {})
-    profiles = {name: r for name, r in model.rotors.items() if r.profile is not None}
+    profiles = {name: r for name, r in model.rotors.items() if r.profile is not None or r.drive is not None}
     unknown = set(speeds) - set(profiles)
     if unknown:
         raise ParameterError(

@@ -248,7 +248,8 @@ def frozen_system(system, speed_parameter=None, speed=None, t=0.0, who="linear_m
         raise ParameterError(f"{who}: speed_parameter={speed_parameter!r} is not a rotor speed: expected one of "
                              f"{available} (a rotor with a speed profile is swept by <rotor>_speed too)")
     rotor = speed_parameter[: -len("_speed")]
-    given = {rotor: speed} if speed is not None and model.rotors[rotor].profile is not None else None
+    frozen = model.rotors[rotor].profile is not None or model.rotors[rotor].drive is not None
+    given = {rotor: speed} if speed is not None and frozen else None
     return frozen_speed_model(model, t, given), speed_parameter
 
 

@@ -224,6 +224,14 @@ def static_equilibrium(system, t=0.0, *, unbalance=False, q0=None, tol=DEFAULT_E
 
     _check_system(system, "static_equilibrium")
     t = _check_time(t)
+    driven = [r.name for r in getattr(getattr(system, "model", None), "rotors", {}).values()
+              if getattr(r, "drive", None) is not None]
+    if driven:
+        raise ParameterError(
+            f"static_equilibrium: the speed of rotor {driven[0]!r} is a degree of freedom (Drive), whose spin has no "
+            "static equilibrium; analyse the model at a frozen speed: "
+            "rotorkit.analysis.linear_matrices.frozen_speed_model(model).compile() (the campbell and linear_model "
+            "analyses freeze it at its initial_speed themselves)")
     if not isinstance(unbalance, bool):
         raise ParameterError(f"unbalance={unbalance!r} is invalid: expected True or False")
     if isinstance(tol, bool) or not isinstance(tol, numbers.Real) or not 0 < tol < 1:

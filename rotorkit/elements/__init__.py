@@ -13,6 +13,8 @@ from .material import Material
 from .rotor import Rotor
 from .rub import RubStator
 from .shaft import ShaftSegment
+from .intershaft_rub import IntershaftRub
+from .drive import Drive
 from .speed import SpeedProfile
 from .squeeze_film import SqueezeFilmDamper
 from .support import ElasticSupport
@@ -37,4 +39,6 @@ __all__ = [
     "BaseRotation",
     "SqueezeFilmDamper",
     "JournalBearing",
+    "IntershaftRub",
+    "Drive",
 ]

@@ -8,9 +8,10 @@ import numpy as np
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
+from .drive import Drive
 from .speed import SpeedProfile
 
-__all__ = ["Rotor", "check_station"]
+__all__ = ["Rotor", "check_station", "torque_targets"]
 
 
 def check_station(owner, station, field="station"):
@@ -20,6 +21,29 @@ def check_station(owner, station, field="station"):
     if isinstance(station, str) and station.isidentifier():
         return station
     raise ParameterError(f"{owner}: {field} = {station!r}: expected a station (a non-negative int or an identifier string)")
+
+
+def torque_targets(ctx, station):
+    """Coordinate symbol -> factor: where a torque about +z on ``station``'s cross-section does work.
+
+    A torque ``M`` on the section at ``station`` loads its torsional
+    coordinate ``alpha`` (if it has one) with ``M`` and, if the speed of its
+    rotor is a degree of freedom (a :class:`~rotorkit.elements.drive.Drive`,
+    possibly through ``speed_ratio`` gearing ``gamma``), the rotor's spin
+    coordinate with ``gamma M``. Empty when the station turns at a prescribed
+    speed without torsion (the drive absorbs the torque).
+    """
+    out = {}
+    alpha = ctx.coord(station, "alpha", drive=True)[0]
+    if alpha != 0:
+        out[alpha] = 1
+    factor, rotor = 1, ctx.model.rotor_of(station)
+    while rotor.speed is None:
+        factor = factor * ctx.parameter(rotor, "speed_ratio")
+        rotor = ctx.model.rotors[rotor.reference]
+    if rotor.drive is not None:
+        out[ctx.coord(rotor.stations[0], "spin")[0]] = factor
+    return out
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -73,8 +97,8 @@ class Rotor(Element):
                                  "e.g. (1, 2, 3)")
         object.__setattr__(self, "stations", tuple(check_station(f"Rotor {self.name!r}", st, "stations")
                                                    for st in self.stations))
-        profile = self.speed if isinstance(self.speed, SpeedProfile) else None
-        if profile is not None:  # the profile holds its own checked values
+        profile = self.speed if isinstance(self.speed, (SpeedProfile, Drive)) else None
+        if profile is not None:  # the profile (or drive) holds its own checked values
             object.__setattr__(self, "speed", 0.0)
         Element.__post_init__(self)
         if profile is not None:
@@ -107,7 +131,14 @@ class Rotor(Element):
         return self.stations
 
     def coordinates(self):
-        return tuple((s, axis) for axis in ("x", "y") for s in self.stations)
+        spin = ((self.stations[0], "spin"),) if self.drive is not None else ()
+        return tuple((s, axis) for axis in ("x", "y") for s in self.stations) + spin
+
+    def inertia(self):
+        return ((self.stations[0], "spin"),) if self.drive is not None else ()  # the polar inertia of its parts
+
+    def grounds(self):
+        return ((self.stations[0], "spin"),) if self.drive is not None else ()  # held by the drive torque, not elastic
 
     def check(self, model):
         seen, r = [self.name], self
@@ -121,6 +152,8 @@ class Rotor(Element):
             if r.name in seen:
                 raise TopologyError(f"Rotor speeds refer to each other in a loop: {seen + [r.name]}")
             seen.append(r.name)
+        if self.drive is not None:
+            self.drive.check(self, model)
 
     def explain(self, model, problem, coordinates):
         stations = list(dict.fromkeys(s for s, axis in coordinates if axis in ("x", "y")))
@@ -138,7 +171,7 @@ class Rotor(Element):
         return self.name
 
     def contribute(self, ctx):
-        return Terms()
+        return Terms() if self.drive is None else self.drive.contribute(self, ctx)
 
     # -- speed profiles ------------------------------------------------------
     @property
@@ -146,48 +179,71 @@ class Rotor(Element):
         """The :class:`SpeedProfile`, or None for a constant speed or a ratio."""
         return self.speed if isinstance(self.speed, SpeedProfile) else None
 
+    @property
+    def drive(self):
+        """The :class:`~rotorkit.elements.drive.Drive` (speed a degree of freedom), or None."""
+        return self.speed if isinstance(self.speed, Drive) else None
+
+    @property
+    def _law(self):
+        """The SpeedProfile or Drive holding the speed's parameters, or None."""
+        return self.profile if self.profile is not None else self.drive
+
     def parameters(self):
-        if self.profile is None:
+        if self._law is None:
             return Element.parameters(self)
-        return {f"speed_{k}": v for k, v in self.profile.values().items()}
+        return {f"speed_{k}": v for k, v in self._law.values().items()}
 
     def parameter_units(self):
-        if self.profile is None:
+        if self._law is None:
             return Element.parameter_units(self)
-        return {f"speed_{k}": u for k, u in self.profile.units().items()}
+        return {f"speed_{k}": u for k, u in self._law.units().items()}
 
     def parameter_sign(self, field_name):
+        if self.drive is not None:
+            return self.drive.signs().get(field_name[len("speed_"):])
         return None if self.profile is not None else Element.parameter_sign(self, field_name)
 
     def unit_of(self, field_name):
-        if self.profile is not None and field_name.startswith("speed_"):
-            return self.profile.units()[field_name[len("speed_"):]]
+        if self._law is not None and field_name.startswith("speed_"):
+            return self._law.units()[field_name[len("speed_"):]]
         return Element.unit_of(self, field_name)
 
     def replace_parameters(self, **fields):
-        if self.profile is None:
+        if self._law is None:
             return Element.replace_parameters(self, **fields)
-        new = self.profile.with_values(**{k[len("speed_"):]: v for k, v in fields.items()})
+        new = self._law.with_values(**{k[len("speed_"):]: v for k, v in fields.items()})
         return dataclasses.replace(self, speed=new)
 
     def time_event_fields(self):
-        if self.profile is None:
+        if self._law is None:
             return Element.time_event_fields(self)
-        return tuple(f"speed_{k}" for k in self.profile.time_event_fields())
+        return tuple(f"speed_{k}" for k in self._law.time_event_fields())
 
     def structure(self):
-        if self.profile is None:
+        if self._law is None:
             return Element.structure(self)
-        return (type(self).__name__, self.label(), (("stations", repr(self.stations)), self.profile.structure()))
+        return (type(self).__name__, self.label(), (("stations", repr(self.stations)), self._law.structure()))
+
+    def spin_symbols(self):
+        """``(spin, spin')`` symbols of a driven rotor's spin coordinate (named as the model's states)."""
+        import sympy as sp
+
+        name = f"spin{self.stations[0]}"
+        return sp.Symbol(name, real=True), sp.Symbol(f"{name}_dot", real=True)
 
     def speed_expression(self, t, parameter):
         """Spin speed of this (root) rotor as an expression; ``parameter(name)`` gives a symbol."""
+        if self.drive is not None:
+            return self.drive.speed({"initial": parameter(f"{self.name}_speed_initial")}, self.spin_symbols()[1])
         if self.profile is None:
             return parameter(f"{self.name}_speed")
         return self.profile.speed(t, {k: parameter(f"{self.name}_speed_{k}") for k in self.profile.values()})
 
     def angle_expression(self, t, parameter):
         """Spin angle ``integral_0^t speed`` of this (root) rotor as an expression."""
+        if self.drive is not None:
+            return self.drive.angle(t, {"initial": parameter(f"{self.name}_speed_initial")}, self.spin_symbols()[0])
         if self.profile is None:
             return parameter(f"{self.name}_speed") * t
         return self.profile.angle(t, {k: parameter(f"{self.name}_speed_{k}") for k in self.profile.values()})

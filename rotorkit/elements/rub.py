@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
-from .rotor import check_station
+from .rotor import check_station, torque_targets
 
 __all__ = ["RubStator"]
 
@@ -74,7 +74,8 @@ class RubStator(Element):
         return frozenset({"rub"})
 
     def check(self, model):
-        if model.has_coordinate(self.station, "alpha") and self.contact_radius is None:
+        driven = model.rotor_of(self.station).drive is not None
+        if (model.has_coordinate(self.station, "alpha") or driven) and self.contact_radius is None:
             if not any(getattr(e, "radius", None) is not None for e in model.elements_at(self.station)):
                 raise TopologyError(
                     f"RubStator {self.label()!r}: the disk at station {self.station!r} has no radius for the "
@@ -94,8 +95,9 @@ class RubStator(Element):
             x: -kr * ratio * (x - mu * y),
             y: -kr * ratio * (mu * x + y),
         }
-        alpha = ctx.coord(self.station, "alpha", drive=True)[0]
-        if alpha != 0:
+        targets = torque_targets(ctx, self.station)  # alpha, and the spin of a driven rotor
+        if targets:
             radius = p["contact_radius"] if self.contact_radius is not None else ctx.disk_radius(self.station)
-            loads[alpha] = -mu * radius * normal
+            for q, factor in targets.items():
+                loads[q] = factor * (-mu * radius * normal)
         return Terms(loads=loads, switches=(r - delta,))

@@ -327,6 +327,34 @@ def _add_quadratic(form, q_index, M, K, C, force, totals, t=None):
             totals[name].append(value)
 
 
+def _state_gyroscopics(form, templates, speeds, M, force, totals):
+    """``form`` without a gyroscopic matrix that holds a state, whose energy ``u^T N q`` is derived in full instead.
+
+    A rotor whose speed is a degree of freedom (a Drive) puts its spin speed,
+    a state, in ``N``: Lagrange's equations of ``u^T N(u) q`` then also hold
+    ``dN/du`` terms (mass coupling of the spin and the tilts), which the
+    matrix shortcut of :func:`_add_quadratic` leaves out. Forms whose ``N``
+    holds no state (every constant-speed or speed-profile rotor) are
+    returned unchanged.
+    """
+    import dataclasses
+
+    N = form.gyroscopic
+    if N is None or not any(e.free_symbols & speeds for e in N if e != 0):
+        return form
+    kinetic = form._form(N, form.speeds, form.coordinates)
+    energy = SimpleNamespace(kinetic=kinetic, potential=sp.S.Zero, dissipation=sp.S.Zero, loads={})
+    mass, extra, _, _ = templates.contribution(energy, {})
+    for (i, j), v in mass.items():
+        _add(M, (i, j), v)
+        if i != j:
+            _add(M, (j, i), v)
+    for i, v in extra.items():
+        force[i] = force.get(i, sp.S.Zero) + v
+    totals["kinetic"].append(kinetic)
+    return dataclasses.replace(form, gyroscopic=None)
+
+
 def _add(target, key, value):
     """``target[key] += value`` on a dict of term lists (summed once at the end: no quadratic re-flattening)."""
     target.setdefault(key, []).append(value)
@@ -410,6 +438,7 @@ def _derive(model):
         if terms.quadratic:  # finite elements: add the matrices, no differentiation
             force = dict(force)
             for form in terms.quadratic:
+                form = _state_gyroscopics(form, templates, set(us), M, force, totals)
                 _add_quadratic(form, q_index, M, K, C, force, totals, t)
         for (i, j), mij in mass.items():
             _add(M, (i, j), mij)
