@@ -4,6 +4,7 @@ from .base import Element, Terms
 from .base_motion import BaseRotation
 from .beam import BeamSegment
 from .bearing import BallBearing
+from .damping import Rayleigh
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, LumpedMass
@@ -14,13 +15,16 @@ from .rub import RubStator
 from .shaft import ShaftSegment
 from .speed import SpeedProfile
 from .support import ElasticSupport
+from .tapered import TaperedBeamSegment
 
 __all__ = [
     "Element",
     "Terms",
     "Material",
     "BeamSegment",
+    "TaperedBeamSegment",
     "Rotor",
+    "Rayleigh",
     "Disk",
     "LumpedMass",
     "ShaftSegment",
