@@ -17,7 +17,7 @@ from .simulate import simulate  # eager: the function must win over the submodul
 #: ``import rotorkit`` stays cheap (numpy only): sympy, numba, scipy, pint and matplotlib load when used.
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
-                     "ShaftSegment"), "elements"),
+                     "ShaftSegment", "Rayleigh"), "elements"),
     "Model": "model",
     "load_model": "modelfile",
     "preset": "presets",
@@ -57,6 +57,7 @@ __all__ = [
     "BallBearing",
     "RubStator",
     "Maneuver",
+    "Rayleigh",
     "Model",
     "load_model",
     "System",

@@ -156,3 +156,11 @@ def test_bad_csv_is_a_named_error(tmp_path, text, match):
     path.write_text(text)
     with pytest.raises(ParameterError, match=match):
         LinearBearing.from_csv(path, station=1)
+
+
+def test_table_bearing_model_file_round_trip(pchip_model):
+    from rotorkit.modelfile import dumps_model, loads_model
+
+    back, _ = loads_model(dumps_model(pchip_model))
+    assert back.parameters == pchip_model.parameters and back.structure_key == pchip_model.structure_key
+    assert back.elements[-1].interpolation == "pchip"

@@ -114,3 +114,14 @@ def test_from_damping_ratios():
 def test_bad_damping_is_a_named_error(make, match):
     with pytest.raises(ParameterError, match=match):
         make()
+
+
+def test_damped_rotor_model_file_round_trip():
+    from rotorkit.modelfile import dumps_model, loads_model
+
+    model = Model([Rotor(name="R", stations=(1,), speed=100.0, damping=Rayleigh("2 1/s", 1e-4)),
+                   LumpedMass(station=1, mass=3.0), ElasticSupport(station=1, stiffness=1e6)])
+    text = dumps_model(model)
+    assert 'alpha = "2 1/s"' in text or "alpha = \"2.0 1/s\"" in text
+    back, _ = loads_model(text)
+    assert back.parameters == model.parameters and back.structure_key == model.structure_key

@@ -163,3 +163,31 @@ def test_from_taper_gives_the_end_diameters():
     b = TaperedBeamSegment.from_taper(start=1, end=2, length=0.5, outer_diameter=0.06, outer_taper=-0.04,
                                       inner_diameter=0.02, inner_taper=0.01, material=STEEL)
     assert (b.outer_diameter_end, b.inner_diameter_end) == pytest.approx((0.04, 0.025))
+
+
+def test_tapered_segment_model_file_round_trip():
+    from rotorkit.modelfile import dumps_model, loads_model
+
+    model = cantilever(TaperedBeamSegment(start=1, end=2, length=0.5, outer_diameter=0.09, outer_diameter_end=0.05,
+                                          inner_diameter=0.02, material=STEEL, axial_force=-1e3))
+    model = Model([e for e in model.elements if type(e).__name__ != "Clamp"]
+                  + [ElasticSupport(station=1, stiffness=1e8), ElasticSupport(station=2, stiffness=1e8)])
+    back, _ = loads_model(dumps_model(model))
+    assert back.parameters == model.parameters and back.structure_key == model.structure_key
+
+
+def test_equal_end_diameters_in_a_turning_base_and_gravity_give_the_uniform_equations():
+    from rotorkit import Maneuver
+    from rotorkit.elements import BaseRotation
+
+    common = dict(start=1, end=2, length=0.4, outer_diameter=0.07, inner_diameter=0.03, material=STEEL)
+    rhs = []
+    for segment in (BeamSegment(**common), TaperedBeamSegment(outer_diameter_end=0.07, **common)):
+        model = Model([Rotor(name="R", stations=(1, 2), speed=300.0), segment,
+                       ElasticSupport(station=1, stiffness=1e8), ElasticSupport(station=2, stiffness=1e8),
+                       BaseRotation(rate_y=0.5, rate_x=0.2, center_x=-3.0, axial_positions={1: 0.0}),
+                       Maneuver(gravity=9.81)])
+        system = model.compile(backend="python")
+        y = np.random.default_rng(1).normal(size=system.n_states) * 1e-3
+        rhs.append(system.rhs(0.3, y))
+    np.testing.assert_allclose(rhs[1], rhs[0], rtol=1e-9, atol=1e-9 * np.abs(rhs[0]).max())

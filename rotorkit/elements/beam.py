@@ -440,22 +440,12 @@ class BeamSegment(Element):
         """
         import sympy as sp
 
-        p = ctx.p
-        tpl = plane_template()
-        l_sym, phi_sym = tpl["symbols"]
-        rhoA, rhoI, EI, kGA, _, l = self._section(p)
-        phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
-        subs = {l_sym: l, phi_sym: phi}
-        Mt = rhoA * tpl["translational_mass"].xreplace(subs)
-        Mr = tpl["rotary_mass"].xreplace(subs)
-        R = tpl["rotary_vector"].xreplace(subs)
+        per_element = self._base_rotation_matrices(ctx)
         W, c = frame.W, frame.c
         A = _cross(frame.Wd) + _cross(W) * _cross(W)
         B = 2 * _cross(W)
         Ac = A * c
         S = sp.diag(1, -1, 1, -1)
-        Id = rhoI if self.rotary_inertia else sp.S.Zero
-        Ip = 2 * rhoI if self.gyroscopic else sp.S.Zero
         spin = ctx.speed(self.start)
         # on (x_a, thy_a, x_b, thy_b, y_a, thx_a, y_b, thx_b): thy = beta_x, thx = -beta_y = -S (y-plane)
         Z4 = sp.zeros(4, 4)
@@ -463,6 +453,7 @@ class BeamSegment(Element):
         nodes, z = self.nodes(), self.node_positions(frame.positions)
         loads = {}
         for k, (na, nb) in enumerate(zip(nodes, nodes[1:])):
+            Mt, Mr, R, Id, Ip = per_element[k]
             cx = [ctx.coord(na, "x"), ctx.coord(na, "thy"), ctx.coord(nb, "x"), ctx.coord(nb, "thy")]
             cy = [ctx.coord(na, "y"), ctx.coord(na, "thx"), ctx.coord(nb, "y"), ctx.coord(nb, "thx")]
             X, UX = sp.Matrix([q for q, _ in cx]), sp.Matrix([u for _, u in cx])
@@ -479,6 +470,28 @@ class BeamSegment(Element):
                 if f != 0:
                     loads[q] = loads.get(q, sp.S.Zero) + f
         return loads
+
+    def _base_rotation_matrices(self, ctx):
+        """Per element: (M_t, M_r, R, I_d, I_p) of one plane for :meth:`_base_rotation_loads`.
+
+        ``M_t`` the translational mass matrix; ``M_r = int N_beta^T N_beta dz``
+        and ``R = int N_beta^T dz`` weighted so that ``I_d M_r``, ``I_p M_r``
+        (``I_d R``...) are the section inertias' integrals (``I_d = rho I``,
+        ``I_p = 2 rho I`` per unit length here; 0 when the flag is off).
+        """
+        import sympy as sp
+
+        tpl = plane_template()
+        l_sym, phi_sym = tpl["symbols"]
+        rhoA, rhoI, EI, kGA, _, l = self._section(ctx.p)
+        phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
+        subs = {l_sym: l, phi_sym: phi}
+        Mt = rhoA * tpl["translational_mass"].xreplace(subs)
+        Mr = tpl["rotary_mass"].xreplace(subs)
+        R = tpl["rotary_vector"].xreplace(subs)
+        Id = rhoI if self.rotary_inertia else sp.S.Zero
+        Ip = 2 * rhoI if self.gyroscopic else sp.S.Zero
+        return [(Mt, Mr, R, Id, Ip)] * self.elements
 
     def rigid_body_mass(self, ctx):
         import sympy as sp

@@ -33,6 +33,7 @@ and section 5.7 (internal damping).
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar, Mapping
 
 from ..errors import ParameterError
 from ..units import to_si
@@ -68,6 +69,9 @@ class Rayleigh:
 
     alpha: float = 0.0
     beta: float = 0.0
+
+    #: field -> (SI unit, sign rule), as for elements (model files write the units)
+    _units: ClassVar[Mapping[str, tuple]] = {"alpha": ("1/s", "nonnegative"), "beta": ("s", "nonnegative")}
 
     def __post_init__(self):
         for name, unit in _UNITS.items():
@@ -120,8 +124,8 @@ class Rayleigh:
 
     @staticmethod
     def unit_of(field_name):
-        """SI unit of a rotor field ``damping_alpha`` / ``damping_beta``."""
-        return _UNITS[field_name[len(PREFIX):]]
+        """SI unit of ``alpha``/``beta`` or of the rotor fields ``damping_alpha``/``damping_beta``."""
+        return _UNITS[field_name[len(PREFIX):] if field_name.startswith(PREFIX) else field_name]
 
     def replace(self, **fields):
         """A copy with rotor fields (``damping_alpha=...``) changed (SI floats)."""

@@ -41,9 +41,9 @@ import functools
 import math
 from dataclasses import dataclass
 
-from ..errors import ParameterError, TopologyError
+from ..errors import ParameterError
 from .base import QuadraticForm, Terms
-from .base_motion import BaseRotation
+from .base_motion import base_frame
 from .beam import BeamSegment, cowper_shear_coefficient, plane_template, shape_functions
 
 __all__ = ["TaperedBeamSegment", "tapered_moments"]
@@ -61,7 +61,9 @@ def tapered_moments():
         ``"bending"`` (k = 0..4): ``N_beta'^T N_beta'``; ``"translational"``
         (k = 0..2): ``N_w^T N_w``; ``"rotary"`` (k = 0..4): ``N_beta^T N_beta``;
         each a list of 4x4 matrices rational in ``l`` and ``phi`` (the symbols
-        of :func:`~rotorkit.elements.beam.plane_template`).
+        of :func:`~rotorkit.elements.beam.plane_template`); ``"shear"``, the
+        uniform element's shear block per ``EI``; ``"rotary_vector"``
+        (k = 0..4): ``N_beta^T``, 4x1.
     """
     import sympy as sp
 
@@ -86,9 +88,16 @@ def tapered_moments():
     Nw_s, Nb_s = in_s(Nw), in_s(Nb)
     dNb_s = in_s(sp.diff(Nb, z))
     bending = moments(dNb_s, dNb_s, 4)
+    vector = []  # int s^k N_beta^T dz, 4x1
+    for k in range(5):
+        column = sp.zeros(4, 1)
+        for i, (ni, di) in enumerate(Nb_s):
+            poly = sp.Poly(sp.expand(ni * s**k), s)
+            column[i] = sp.factor(l * sum(c / (m + 1) for (m,), c in poly.terms())) / di
+        vector.append(column)
     shear = (plane_template()["stiffness"] - bending[0]).applyfunc(sp.factor)
     return {"bending": bending, "translational": moments(Nw_s, Nw_s, 2), "rotary": moments(Nb_s, Nb_s, 4),
-            "shear": shear}
+            "shear": shear, "rotary_vector": vector}
 
 
 @functools.cache
@@ -126,8 +135,9 @@ class TaperedBeamSegment(BeamSegment):
         d_i at ``end`` (m), 0 <= d_i < d_o; default ``inner_diameter``.
 
     See the module docstring for the element matrices and their verification.
-    A turning base (:class:`~rotorkit.elements.base_motion.BaseRotation`) is
-    not supported on tapered segments.
+    In a turning base (:class:`~rotorkit.elements.base_motion.BaseRotation`)
+    its loads are the uniform segment's with the tapered element's mass and
+    section-inertia integrals.
 
     Examples
     --------
@@ -192,13 +202,6 @@ class TaperedBeamSegment(BeamSegment):
     def _default_label(self):
         return f"taperedbeam{self.start}_{self.end}"
 
-    def check(self, model):
-        for e in model.elements:
-            if isinstance(e, BaseRotation):
-                raise TopologyError(f"TaperedBeamSegment {self.label()!r}: a turning base (BaseRotation) is not "
-                                    "supported on tapered segments; use stepped BeamSegments")
-        BeamSegment.check(self, model)
-
     def _solid(self):
         return self.inner_diameter == 0 and self.inner_diameter_end == 0
 
@@ -217,12 +220,13 @@ class TaperedBeamSegment(BeamSegment):
         return do, p["inner_diameter"] + (p["inner_diameter_end"] - p["inner_diameter"]) * f
 
     def _tapered_element(self, q):
-        """(K, M, Mr, I_coefficients, I_mean) of one plane from placeholder symbols ``q``.
+        """(K, M, Mr, I_mean, (M_t, R)) of one plane from placeholder symbols ``q``.
 
         ``q`` holds ``do_a, do_b, di_a, di_b`` (node diameters), ``density``,
         ``youngs_modulus``, ``shear_modulus``, ``shear_coefficient``, ``l`` and
         ``axial_force``. ``Mr`` is the rotary integral per unit ``rho``
-        (``int I(s) N_beta^T N_beta dz``).
+        (``int I(s) N_beta^T N_beta dz``), ``M_t`` the translational mass and
+        ``R = int I(s) N_beta^T dz`` (for a turning base).
         """
         import sympy as sp
 
@@ -272,10 +276,10 @@ class TaperedBeamSegment(BeamSegment):
         if self.axial_force is not None:
             K = K + q["axial_force"] * tpl["geometric"].xreplace(subs)
         Mr = combine(Ik, "rotary")
-        M = rho * combine(Ak, "translational")
-        if self.rotary_inertia:
-            M = M + rho * Mr
-        return K, M, Mr, Ik, I_mean
+        Mt = rho * combine(Ak, "translational")
+        M = Mt + rho * Mr if self.rotary_inertia else Mt
+        R = sum((c * v for c, v in zip(Ik, tapered_moments()["rotary_vector"])), sp.zeros(4, 1)).xreplace(subs)
+        return K, M, Mr, I_mean, (Mt, R)
 
     def _forms_template(self):
         """(placeholders, spin, mass, stiffness, gyroscopic, torsion) 8x8 (and 2x2) of one element."""
@@ -291,7 +295,7 @@ class TaperedBeamSegment(BeamSegment):
             if self._solid():
                 q["di_a"] = q["di_b"] = sp.S.Zero
             spin = sp.Symbol("_taper_spin", real=True)
-            K, M, Mr, Ik, I_mean = self._tapered_element(q)
+            K, M, Mr, I_mean, (Mt, R) = self._tapered_element(q)
             sign = sp.diag(1, -1, 1, -1)  # y-z plane: (w, beta) = (y, -thx)
             Z = sp.zeros(4, 4)
             mass = sp.ImmutableMatrix(sp.BlockMatrix([[M, Z], [Z, sign * M * sign]]))
@@ -312,7 +316,8 @@ class TaperedBeamSegment(BeamSegment):
                         mt[i, j] = 2 * q["density"] * l * e
                 gip = 2 * q["shear_modulus"] * I_mean / l
                 torsion = (sp.ImmutableMatrix(mt), sp.ImmutableMatrix([[gip, -gip], [-gip, gip]]))
-            cached = _FORMS[key] = ((q, spin), mass, stiffness, gyro, torsion)
+            base = (sp.ImmutableMatrix(Mt), sp.ImmutableMatrix(Mr), sp.ImmutableMatrix(R))
+            cached = _FORMS[key] = ((q, spin), mass, stiffness, gyro, torsion, base)
         return cached
 
     def _renames(self, ctx):
@@ -320,7 +325,7 @@ class TaperedBeamSegment(BeamSegment):
         p = ctx.p
         (q, spin), *_ = self._forms_template()
         base = {q["l"]: p["length"] / self.elements, q["density"]: p["density"],
-                q["youngs_modulus"]: p["youngs_modulus"], q["shear_modulus"]: p["shear_modulus"], spin: None}
+                q["youngs_modulus"]: p["youngs_modulus"], q["shear_modulus"]: p["shear_modulus"]}
         for n in ("shear_coefficient", "axial_force"):
             if n in p:
                 base[q[n]] = p[n]
@@ -335,12 +340,12 @@ class TaperedBeamSegment(BeamSegment):
         return out, spin
 
     def contribute(self, ctx):
-        (_, _), mass_t, stiffness_t, gyro_t, torsion_t = self._forms_template()
+        (_, _), mass_t, stiffness_t, gyro_t, torsion_t, _ = self._forms_template()
         renames, spin = self._renames(ctx)
         forms = []
         nodes = self.nodes()
         for rename, (a, b) in zip(renames, zip(nodes, nodes[1:])):
-            rename[spin] = ctx.speed(self.start)
+            rename = {**rename, spin: ctx.speed(self.start)}
             cx = [ctx.coord(a, "x"), ctx.coord(a, "thy"), ctx.coord(b, "x"), ctx.coord(b, "thy")]
             cy = [ctx.coord(a, "y"), ctx.coord(a, "thx"), ctx.coord(b, "y"), ctx.coord(b, "thx")]
             forms.append(QuadraticForm(coordinates=tuple(c[0] for c in cx + cy),
@@ -351,13 +356,26 @@ class TaperedBeamSegment(BeamSegment):
                 (qa, ua), (qb, ub) = ctx.coord(a, "alpha"), ctx.coord(b, "alpha")
                 forms.append(QuadraticForm(coordinates=(qa, qb), speeds=(ua, ub), mass=torsion_t[0].xreplace(rename),
                                            stiffness=torsion_t[1].xreplace(rename)))
-        return Terms(quadratic=tuple(forms))
+        frame = base_frame(ctx)
+        if frame is None:
+            return Terms(quadratic=tuple(forms))
+        return Terms(quadratic=tuple(forms), loads=self._base_rotation_loads(ctx, frame))
+
+    def _base_rotation_matrices(self, ctx):
+        import sympy as sp
+
+        *_, (Mt, Mr, R) = self._forms_template()
+        renames, spin = self._renames(ctx)
+        rho = ctx.p["density"]
+        Id = rho if self.rotary_inertia else sp.S.Zero  # times int I(s) ... inside Mr and R
+        Ip = 2 * rho if self.gyroscopic else sp.S.Zero
+        return [(Mt.xreplace(r), Mr.xreplace(r), R.xreplace(r), Id, Ip) for r in renames]
 
     def rigid_body_mass(self, ctx):
         import sympy as sp
 
         (_, _), mass_t, *_ = self._forms_template()
-        renames, spin = self._renames(ctx)
+        renames, _ = self._renames(ctx)
         out = {}
         nodes = self.nodes()
         for rename, (a, b) in zip(renames, zip(nodes, nodes[1:])):
