@@ -24,7 +24,12 @@ diameter ratio unless given). This is a Rayleigh-Ritz element: exact in
 mass, bending and gyroscopic integrals for the Euler-Bernoulli beam
 (``phi = 0``, Hermite cubics), with the shear energy of the mean section;
 it converges to the tapered beam as the mesh is refined, and for equal end
-diameters it is the uniform element. Torsion (``torsion=True``) uses linear
+diameters it is the uniform element. With shear the shape functions keep the
+uniform element's tie between shear strain and curvature (the mean
+section's), so the Timoshenko element converges more slowly, about first
+order in the element length (a solid 80-to-40 mm cone cantilever, 1 m: the
+first frequency 0.15 % above the converged value with 8 elements, 0.02 %
+with 32); the Euler-Bernoulli element converges as the uniform one. Torsion (``torsion=True``) uses linear
 shape functions with ``G I_p(s)`` and ``rho I_p(s)`` integrated exactly.
 
 The geometric stiffness of an axial force (``axial_force``) is the uniform
