@@ -75,7 +75,8 @@ def test_damping_coefficients_are_parameters(beam):
 def test_disk_mass_proportional_damping():
     m, k, alpha = 10.0, 4e6, 3.0
     model = Model([Rotor(name="R", stations=(1,), speed=100.0, damping=Rayleigh(alpha, 1e-3)),
-                   Disk(station=1, mass=m, polar_inertia=0.1, eccentricity=1e-4), ElasticSupport(station=1, stiffness=k)])
+                   Disk(station=1, mass=m, polar_inertia=0.1, eccentricity=1e-4),
+                   ElasticSupport(station=1, stiffness=k)])
     lam = eigenvalues(model)
     w = math.sqrt(k / m)
     np.testing.assert_allclose(ratio(lam), alpha / (2 * w), rtol=1e-9)  # the support is no part of K_r

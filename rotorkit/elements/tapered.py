@@ -152,10 +152,10 @@ class TaperedBeamSegment(BeamSegment):
     >>> round(b.mass_value(), 3)  # rho pi L (d0^2 + d0 d1 + d1^2) / 12
     4.662
     >>> TaperedBeamSegment.from_taper(start=1, end=2, length=0.3, outer_diameter=0.06, outer_taper=-0.25,
-    ...                               material=Material.steel())
+    ...                               material=Material.steel())  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    rotorkit.errors.ParameterError: TaperedBeamSegment.from_taper 1-2: outer_taper = -0.25 over length = 0.3 m gives an outer diameter of -0.015 m at the end; expected a taper that keeps it > 0
+    rotorkit.errors.ParameterError: ... outer_taper = -0.25 over length = 0.3 m gives an outer diameter of -0.015 m ...
     """
 
     outer_diameter_end: float = None
