@@ -87,15 +87,15 @@ class Rayleigh:
     def from_damping_ratios(cls, first, second):
         """The ``alpha``, ``beta`` that give two modes the damping ratios asked for.
 
+        Solves ``zeta_i = alpha / (2 w_i) + beta w_i / 2`` for both modes;
+        a pair that needs a negative coefficient is a ParameterError.
+
         Parameters
         ----------
         first, second : tuple
             ``(zeta, w)``: damping ratio (-) at a natural frequency ``w``
             (rad/s, or a quantity such as ``"50 turn/s"``); two different
             frequencies.
-
-        Solves ``zeta_i = alpha / (2 w_i) + beta w_i / 2`` for both modes;
-        a pair that needs a negative coefficient is a ParameterError.
         """
         (z1, w1), (z2, w2) = first, second
         w1 = to_si(w1, "rad/s", "Rayleigh.from_damping_ratios: first frequency", sign="positive")

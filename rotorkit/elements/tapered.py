@@ -128,9 +128,13 @@ def _phi_powers(kind):
 class TaperedBeamSegment(BeamSegment):
     """A shaft segment whose outer and inner diameters vary linearly from ``start`` to ``end``.
 
-    Parameters are those of :class:`~rotorkit.elements.beam.BeamSegment`
+    It takes the parameters of :class:`~rotorkit.elements.beam.BeamSegment`
     (``outer_diameter`` and ``inner_diameter`` are the diameters at
-    ``start``) and:
+    ``start``) and the two below. See the module docstring for the element
+    matrices and their verification. In a turning base
+    (:class:`~rotorkit.elements.base_motion.BaseRotation`) its loads are the
+    uniform segment's with the tapered element's mass and section-inertia
+    integrals.
 
     Parameters
     ----------
@@ -138,11 +142,6 @@ class TaperedBeamSegment(BeamSegment):
         d_o at ``end`` (m), > 0.
     inner_diameter_end : float or pint.Quantity, optional
         d_i at ``end`` (m), 0 <= d_i < d_o; default ``inner_diameter``.
-
-    See the module docstring for the element matrices and their verification.
-    In a turning base (:class:`~rotorkit.elements.base_motion.BaseRotation`)
-    its loads are the uniform segment's with the tapered element's mass and
-    section-inertia integrals.
 
     Examples
     --------
