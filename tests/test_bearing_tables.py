@@ -8,6 +8,8 @@
 - Added mass ``m_a`` on a single mass ``m`` on a spring ``k``:
   ``w = sqrt(k / (m + m_a))`` (constant and tabulated against speed).
 - CSV: a written table reads back equal; units in the header are converted.
+- Campbell diagram of a mass on a PCHIP bearing with PCHIP added mass:
+  ``sqrt(k(W) / (m + m_a(W)))`` at every speed ``W``.
 """
 
 from __future__ import annotations
@@ -164,3 +166,17 @@ def test_table_bearing_model_file_round_trip(pchip_model):
     back, _ = loads_model(dumps_model(pchip_model))
     assert back.parameters == pchip_model.parameters and back.structure_key == pchip_model.structure_key
     assert back.elements[-1].interpolation == "pchip"
+
+
+def test_campbell_follows_pchip_stiffness_and_added_mass():
+    from rotorkit.analysis.campbell import campbell
+
+    speeds, ks, mas = [0.0, 200.0, 500.0, 900.0], [2e6, 6e6, 5e6, 9e6], [0.0, 4.0, 1.0, 2.0]
+    model_ = Model([Rotor(name="R", stations=(1,), speed=0.0), LumpedMass(station=1, mass=MASS),
+                    LinearBearing.tabulated(station=1, speeds=speeds, kxx=ks, kyy=ks, mxx=mas, myy=mas,
+                                            interpolation="pchip")])
+    sweep = np.linspace(0.0, 1000.0, 11)
+    result = campbell(model_, sweep, n_modes=2, refine=False, backend="python")
+    k, ma = PchipInterpolator(speeds, ks), PchipInterpolator(speeds, mas)
+    exact = np.sqrt(k(np.minimum(sweep, 900.0)) / (MASS + ma(np.minimum(sweep, 900.0))))  # held above 900
+    np.testing.assert_allclose(result.natural_frequencies, np.column_stack([exact, exact]), rtol=1e-10)
