@@ -18,7 +18,7 @@ from .simulate import simulate  # eager: the function must win over the submodul
 _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment", "BeamSegment", "Material", "LinearBearing", "Pedestal", "SpeedProfile",
-                     "BaseRotation", "SqueezeFilmDamper", "JournalBearing"), "elements"),
+                     "BaseRotation", "SqueezeFilmDamper", "JournalBearing", "Rayleigh"), "elements"),
     # the linear analyses a user starting from a Model reaches for first
     "campbell": "analysis.campbell",
     "Unbalance": "analysis.unbalance",
@@ -78,6 +78,7 @@ __all__ = [
     "IntershaftRub",
     "Drive",
     "Maneuver",
+    "Rayleigh",
     "Model",
     "load_model",
     "System",

@@ -22,8 +22,9 @@ HEADER = 'format = "rotorkit-model"\nversion = 1\n'
 def sink_model():
     """One model holding every element type (and both ways of giving shaft stiffness)."""
     return rk.Model([
-        rk.Rotor(name="LP", stations=(1, 2, 3, 4),
-                 speed=rk.elements.SpeedProfile.table(times=[0.0, 0.5], speeds=[300.0, 1500.0])),
+        rk.Rotor(name="LP", stations=(1, 2, 3, 4, 5),
+                 speed=rk.elements.SpeedProfile.table(times=[0.0, 0.5], speeds=[300.0, 1500.0]),
+                 damping=rk.elements.Rayleigh(alpha=1.0, beta=1e-5)),
         rk.Rotor(name="HP", stations=("h",), speed_ratio=1.3, reference="LP"),
         rk.LumpedMass(station=1, mass=2.0),
         rk.Disk(station=2, mass=10.0, radius=0.075, eccentricity=4.635e-5, phase=0.1, torsion=True),
@@ -39,6 +40,8 @@ def sink_model():
         rk.ShaftSegment(start=2, end=3, bending_stiffness=3e5),
         rk.elements.BeamSegment(start=3, end=4, length=0.2, outer_diameter=0.04, inner_diameter=0.01,
                                 material=rk.elements.Material.titanium_ti6al4v(), elements=2),
+        rk.elements.TaperedBeamSegment(start=4, end=5, length=0.1, outer_diameter=0.04, outer_diameter_end=0.03,
+                                       material=rk.elements.Material.steel(), axial_force=-500.0),
         rk.BallBearing(inner_station=3, outer_station="h", contact_stiffness=1.334e10, clearance=5e-6,
                        n_balls=8, inner_race_radius=0.0401, outer_race_radius=0.0639),
         rk.RubStator(station=2, clearance=1.34e-4, contact_stiffness=8e6, friction_coefficient=0.1),

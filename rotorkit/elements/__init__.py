@@ -5,6 +5,7 @@ from .base_motion import BaseRotation
 from .beam import BeamSegment
 from .bearing import BallBearing
 from .journal_bearing import JournalBearing
+from .damping import Rayleigh
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, DiskGeometry, LumpedMass
@@ -18,13 +19,16 @@ from .drive import Drive
 from .speed import SpeedProfile
 from .squeeze_film import SqueezeFilmDamper
 from .support import ElasticSupport
+from .tapered import TaperedBeamSegment
 
 __all__ = [
     "Element",
     "Terms",
     "Material",
     "BeamSegment",
+    "TaperedBeamSegment",
     "Rotor",
+    "Rayleigh",
     "Disk",
     "DiskGeometry",
     "LumpedMass",

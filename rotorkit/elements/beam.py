@@ -33,24 +33,22 @@ from .base_motion import BaseRotation, base_frame, tilt_loads
 from .material import Material
 from .rotor import check_station
 
-__all__ = ["BeamSegment", "plane_template", "THEORIES"]
+__all__ = ["BeamSegment", "plane_template", "shape_functions", "THEORIES"]
 
 THEORIES = ("timoshenko", "euler-bernoulli")
 _FORMS = {}  # structural variant -> element matrices in placeholder symbols (BeamSegment._forms_template)
 
 
 @functools.cache
-def plane_template():
-    """Element matrices of one bending plane, derived from the energies with shape functions.
+def shape_functions():
+    """The interdependent Timoshenko shape functions of one bending plane (sympy).
 
     Returns
     -------
-    dict
-        ``"symbols"``: (l, phi); and 4x4 matrices over ``(w1, beta1, w2, beta2)``:
-        ``"stiffness"`` (times EI), ``"translational_mass"`` (times rho A),
-        ``"rotary_mass"`` (times rho I; also ``int N_beta^T N_beta dz``, the
-        gyroscopic integral per ``rho I_p``); and ``"rotary_vector"``, 4x1,
-        ``int N_beta^T dz``. Entries are rational in l and phi.
+    tuple
+        ``(z, l, phi, N_w, N_beta)``: the axial coordinate, the element
+        length, ``phi = 12 EI / (kappa G A l^2)`` and the 1x4 rows with
+        ``w(z) = N_w q``, ``beta(z) = N_beta q`` over ``q = (w1, beta1, w2, beta2)``.
     """
     import sympy as sp
 
@@ -65,6 +63,27 @@ def plane_template():
     w_q, beta_q = sp.expand(w.subs(solution)), sp.expand(beta.subs(solution))
     Nw = sp.Matrix([[sp.diff(w_q, qi) for qi in q]])
     Nb = sp.Matrix([[sp.diff(beta_q, qi) for qi in q]])
+    return z, l, phi, Nw, Nb
+
+
+@functools.cache
+def plane_template():
+    """Element matrices of one bending plane, derived from the energies with shape functions.
+
+    Returns
+    -------
+    dict
+        ``"symbols"``: (l, phi); and 4x4 matrices over ``(w1, beta1, w2, beta2)``:
+        ``"stiffness"`` (times EI), ``"translational_mass"`` (times rho A),
+        ``"rotary_mass"`` (times rho I; also ``int N_beta^T N_beta dz``, the
+        gyroscopic integral per ``rho I_p``); ``"geometric"``, the geometric
+        stiffness per unit axial force ``int N_w'^T N_w' dz``; and
+        ``"rotary_vector"``, 4x1, ``int N_beta^T dz``. Entries are rational in
+        l and phi.
+    """
+    import sympy as sp
+
+    z, l, phi, Nw, Nb = shape_functions()
     gamma = sp.simplify(sp.diff(Nw, z) - Nb)  # constant shear strain per unit dof, proportional to phi
     dNb = sp.diff(Nb, z)
 
@@ -80,6 +99,7 @@ def plane_template():
         "translational_mass": integral(Nw.T * Nw),
         "rotary_mass": integral(Nb.T * Nb),
         "rotary_vector": integral(Nb.T),
+        "geometric": integral(sp.diff(Nw, z).T * sp.diff(Nw, z)),
     }
 
 
@@ -141,6 +161,11 @@ class BeamSegment(Element):
         Add torsional coordinates and distributed torsional inertia and stiffness.
     elements : int
         Number of equal finite elements (>= 1).
+    axial_force : float or pint.Quantity, optional
+        Axial force P in the segment (N), tension positive, compression
+        negative: the geometric stiffness ``P int w'^2 dz / 2`` per bending
+        plane (a compressive load softens the shaft and buckles it at
+        ``P = -pi^2 E I / L^2`` pinned-pinned). None (default) adds no term.
 
     Examples
     --------
@@ -154,6 +179,7 @@ class BeamSegment(Element):
     length: float = None
     outer_diameter: float = None
     inner_diameter: float = 0.0
+    axial_force: float | None = None
     density: float | None = None
     youngs_modulus: float | None = None
     shear_modulus: float | None = None
@@ -173,9 +199,10 @@ class BeamSegment(Element):
         "youngs_modulus": ("Pa", "positive"),
         "shear_modulus": ("Pa", "positive"),
         "shear_coefficient": ("", "positive"),
+        "axial_force": ("N", None),
     }
     _latex_names = {"length": "L", "outer_diameter": "d_o", "inner_diameter": "d_i", "density": r"\rho",
-                    "youngs_modulus": "E", "shear_modulus": "G", "shear_coefficient": r"\kappa"}
+                    "youngs_modulus": "E", "shear_modulus": "G", "shear_coefficient": r"\kappa", "axial_force": "P"}
 
     def __post_init__(self):
         if self.material is not None:
@@ -222,7 +249,8 @@ class BeamSegment(Element):
 
     def structure(self):
         base = Element.structure(self)
-        return base[:2] + (tuple(v for v in base[2] if v[0] != "material"),)
+        # an absent axial force leaves the structure (and the cache keys) of a plain beam unchanged
+        return base[:2] + (tuple(v for v in base[2] if v[0] != "material" and v != ("axial_force", True)),)
 
     # -- topology -------------------------------------------------------------
     def _default_label(self):
@@ -316,6 +344,8 @@ class BeamSegment(Element):
         phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
         subs = {l_sym: l, phi_sym: phi}
         K = (EI * tpl["stiffness"]).xreplace(subs)
+        if self.axial_force is not None:  # geometric stiffness P int N_w'^T N_w' dz
+            K = K + p["axial_force"] * tpl["geometric"].xreplace(subs)
         Mr = tpl["rotary_mass"].xreplace(subs)
         M = rhoA * tpl["translational_mass"].xreplace(subs)
         if self.rotary_inertia:
@@ -333,11 +363,11 @@ class BeamSegment(Element):
         import sympy as sp
 
         key = (self.theory, self.rotary_inertia, self.gyroscopic, self.inner_diameter == 0,
-               self.shear_coefficient is None, self.elements)
+               self.shear_coefficient is None, self.elements, self.axial_force is not None)
         cached = _FORMS.get(key)
         if cached is None:
             names = ("outer_diameter", "inner_diameter", "density", "youngs_modulus", "shear_modulus",
-                     "shear_coefficient", "length")
+                     "shear_coefficient", "length", "axial_force")
             p = {n: sp.Symbol(f"_beam_{n}", real=True) for n in names}
             spin = sp.Symbol("_beam_spin", real=True)
             K, M, Mr = self.element_matrices(p)
@@ -410,22 +440,12 @@ class BeamSegment(Element):
         """
         import sympy as sp
 
-        p = ctx.p
-        tpl = plane_template()
-        l_sym, phi_sym = tpl["symbols"]
-        rhoA, rhoI, EI, kGA, _, l = self._section(p)
-        phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
-        subs = {l_sym: l, phi_sym: phi}
-        Mt = rhoA * tpl["translational_mass"].xreplace(subs)
-        Mr = tpl["rotary_mass"].xreplace(subs)
-        R = tpl["rotary_vector"].xreplace(subs)
+        per_element = self._base_rotation_matrices(ctx)
         W, c = frame.W, frame.c
         A = _cross(frame.Wd) + _cross(W) * _cross(W)
         B = 2 * _cross(W)
         Ac = A * c
         S = sp.diag(1, -1, 1, -1)
-        Id = rhoI if self.rotary_inertia else sp.S.Zero
-        Ip = 2 * rhoI if self.gyroscopic else sp.S.Zero
         spin = ctx.speed(self.start)
         # on (x_a, thy_a, x_b, thy_b, y_a, thx_a, y_b, thx_b): thy = beta_x, thx = -beta_y = -S (y-plane)
         Z4 = sp.zeros(4, 4)
@@ -433,6 +453,7 @@ class BeamSegment(Element):
         nodes, z = self.nodes(), self.node_positions(frame.positions)
         loads = {}
         for k, (na, nb) in enumerate(zip(nodes, nodes[1:])):
+            Mt, Mr, R, Id, Ip = per_element[k]
             cx = [ctx.coord(na, "x"), ctx.coord(na, "thy"), ctx.coord(nb, "x"), ctx.coord(nb, "thy")]
             cy = [ctx.coord(na, "y"), ctx.coord(na, "thx"), ctx.coord(nb, "y"), ctx.coord(nb, "thx")]
             X, UX = sp.Matrix([q for q, _ in cx]), sp.Matrix([u for _, u in cx])
@@ -449,6 +470,28 @@ class BeamSegment(Element):
                 if f != 0:
                     loads[q] = loads.get(q, sp.S.Zero) + f
         return loads
+
+    def _base_rotation_matrices(self, ctx):
+        """Per element: (M_t, M_r, R, I_d, I_p) of one plane for :meth:`_base_rotation_loads`.
+
+        ``M_t`` the translational mass matrix; ``M_r = int N_beta^T N_beta dz``
+        and ``R = int N_beta^T dz`` weighted so that ``I_d M_r``, ``I_p M_r``
+        (``I_d R``...) are the section inertias' integrals (``I_d = rho I``,
+        ``I_p = 2 rho I`` per unit length here; 0 when the flag is off).
+        """
+        import sympy as sp
+
+        tpl = plane_template()
+        l_sym, phi_sym = tpl["symbols"]
+        rhoA, rhoI, EI, kGA, _, l = self._section(ctx.p)
+        phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
+        subs = {l_sym: l, phi_sym: phi}
+        Mt = rhoA * tpl["translational_mass"].xreplace(subs)
+        Mr = tpl["rotary_mass"].xreplace(subs)
+        R = tpl["rotary_vector"].xreplace(subs)
+        Id = rhoI if self.rotary_inertia else sp.S.Zero
+        Ip = 2 * rhoI if self.gyroscopic else sp.S.Zero
+        return [(Mt, Mr, R, Id, Ip)] * self.elements
 
     def rigid_body_mass(self, ctx):
         import sympy as sp

@@ -15,9 +15,13 @@ appear in ``model.equations().stiffness``/``damping``), and a skew part
 contributed as a generalised load ``-K_a d - C_a d'`` (listed under the
 bearing in ``equations().forces``). Their sum is exactly ``-K d - C d'``.
 
-Tabulated coefficients (:meth:`LinearBearing.tabulated`) are piecewise
-linear in the speed of the rotor of ``station`` and held at the end values
-outside the table (no linear extrapolation). The table entries are
+Tabulated coefficients (:meth:`LinearBearing.tabulated`,
+:meth:`LinearBearing.from_csv`) are interpolated in the speed of the rotor
+of ``station``: ``interpolation="linear"`` (piecewise linear, the default)
+or ``"pchip"`` (monotone cubic, as ``scipy.interpolate.PchipInterpolator``
+and ROSS); outside the table ``extrapolation="hold"`` (default) keeps the
+end values and ``"linear"`` continues along the end slopes (see
+:mod:`rotorkit.symbolic.tables`). The table entries are
 parameters ``<label>_speed<i>``, ``<label>_kxx<i>``, ...; a rotor whose speed
 follows a :class:`~rotorkit.elements.speed.SpeedProfile` sees the
 coefficients change along the run.
@@ -30,12 +34,19 @@ inter-shaft bearing, to the ground otherwise). They need tilt coordinates at
 the station (a beam element there); a bearing without them adds no tilt
 terms.
 
+Added-mass coefficients ``mxx, mxy, myx, myy`` (kg; fluid inertia of a
+squeeze film or seal) add the force ``-M_a d''``, contributed as kinetic
+energy ``T = d'^T M_a d' / 2`` (so they enter the mass matrix); the model's
+mass matrix is symmetric, so ``mxy`` must equal ``myx``.
+
 With a :class:`~rotorkit.elements.pedestal.Pedestal` the housing is a
 support mass with its own springs to the ground: ``d`` is the journal
 displacement minus the pedestal's (``px<station>``, ``py<station>``).
 """
 
+import csv
 import dataclasses
+import re
 from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
@@ -52,8 +63,11 @@ _DAMP = ("cxx", "cxy", "cyx", "cyy")
 _TILT_STIFF = ("ktxx", "ktxy", "ktyx", "ktyy")
 _TILT_DAMP = ("ctxx", "ctxy", "ctyx", "ctyy")
 _TILT = _TILT_STIFF + _TILT_DAMP
-_DIRECT = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy")
-_COEFFS = _STIFF + _DAMP + _TILT
+_MASS = ("mxx", "mxy", "myx", "myy")
+_DIRECT = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy", "mxx", "myy")
+_COEFFS = _STIFF + _DAMP + _TILT + _MASS
+INTERPOLATIONS = ("linear", "pchip")
+EXTRAPOLATIONS = ("hold", "linear")
 _PEDESTAL = "pedestal_"
 
 
@@ -78,6 +92,13 @@ class LinearBearing(Element):
         direct ones >= 0. Need tilt coordinates at the station(s).
     ctxx, ctxy, ctyx, ctyy : float or pint.Quantity, optional
         Moment damping coefficients (N m s/rad).
+    mxx, mxy, myx, myy : float or pint.Quantity, optional
+        Added-mass coefficients (kg); direct ones >= 0, ``mxy == myx``.
+    interpolation : {"linear", "pchip"}
+        How a table is interpolated between its speeds (tables only).
+    extrapolation : {"hold", "linear"}
+        Outside the table: end values held, or continued along the end
+        slopes (tables only).
     pedestal : Pedestal, optional
         The housing is a support mass on its own springs to the ground
         (coordinates ``px<station>``, ``py<station>``); only with
@@ -113,7 +134,13 @@ class LinearBearing(Element):
     ctxy: float | None = None
     ctyx: float | None = None
     ctyy: float | None = None
+    mxx: float | None = None
+    mxy: float | None = None
+    myx: float | None = None
+    myy: float | None = None
     speeds: tuple | None = None
+    interpolation: str = "linear"
+    extrapolation: str = "hold"
     pedestal: Pedestal | None = None
 
     _units = {
@@ -122,22 +149,92 @@ class LinearBearing(Element):
         "cyy": ("N*s/m", "nonnegative"),
         **{f: ("N*m/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_STIFF},
         **{f: ("N*m*s/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_DAMP},
+        **{f: ("kg", "nonnegative" if f in _DIRECT else None) for f in _MASS},
     }
-    _latex_names = {**{f: f"{f[0]}_{{{f[1:]}}}" for f in _STIFF + _DAMP},
+    _latex_names = {**{f: f"{f[0]}_{{{f[1:]}}}" for f in _STIFF + _DAMP + _MASS},
                     **{f: rf"{f[0]}_{{\theta {f[2:]}}}" for f in _TILT},
                     **{_PEDESTAL + f: rf"{f[0]}_{{p,{f[1:]}}}" for f in ("kxx", "kyy", "cxx", "cyy")},
                     _PEDESTAL + "mass": "m_{p}"}
 
     @classmethod
-    def tabulated(cls, *, station, speeds, other_station=None, name=None, pedestal=None, **coefficients):
+    def tabulated(cls, *, station, speeds, other_station=None, name=None, pedestal=None, interpolation="linear",
+                  extrapolation="hold", **coefficients):
         """Coefficients tabulated against rotor speed: ``speeds`` (rad/s, increasing) and one list per coefficient.
 
-        Piecewise-linear interpolation in the speed of the rotor of
-        ``station``; below the first and above the last speed the end values
-        hold.
+        Interpolated in the speed of the rotor of ``station``
+        (``interpolation="linear"`` or ``"pchip"``); below the first and
+        above the last speed the end values hold (``extrapolation="hold"``)
+        or continue along the end slopes (``"linear"``).
         """
         return cls(station=station, other_station=other_station, name=name, speeds=speeds, pedestal=pedestal,
-                   **coefficients)
+                   interpolation=interpolation, extrapolation=extrapolation, **coefficients)
+
+    @classmethod
+    def from_csv(cls, path, *, station, **options):
+        """A tabulated bearing read from a CSV file, one row per speed.
+
+        The header names the columns: ``speed`` and any coefficients
+        (``kxx``, ``kxy``, ..., ``cyy``, ``mxx``..``myy``, tilt ones), each
+        optionally with its unit in brackets, e.g.
+        ``speed [rpm], kxx [N/m], kxy [MN/m], cxx [N*s/m]`` (default: SI,
+        rad/s for the speed). Blank lines and lines starting with ``#`` are
+        skipped. ``options`` go to :meth:`tabulated` (``other_station``,
+        ``name``, ``interpolation``, ``extrapolation``, ``pedestal``).
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> path = pathlib.Path(tempfile.mkdtemp()) / "bearing.csv"
+        >>> _ = path.write_text("# journal bearing\\nspeed [rpm], kxx [MN/m], kyy [MN/m]\\n0, 10, 12\\n3000, 20, 25\\n")
+        >>> b = LinearBearing.from_csv(path, station=1, interpolation="pchip")
+        >>> b.speeds[1], b.kyy
+        (314.1592653589793, (12000000.0, 25000000.0))
+        """
+        from ..units import to_si
+
+        who = f"LinearBearing.from_csv({str(path)!r})"
+        with open(path, newline="") as handle:
+            rows = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)
+                    and not row[0].lstrip().startswith("#")]
+        if len(rows) < 3:
+            raise ParameterError(f"{who}: expected a header and at least two rows of numbers, got {len(rows)} rows")
+        columns = []
+        for text in rows[0]:
+            match = re.fullmatch(r"\s*([A-Za-z_]\w*)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", text)
+            key = match.group(1).lower() if match else text.strip()
+            if key in ("speed", "speeds"):
+                key = "speed"
+            if not match or (key != "speed" and key not in _COEFFS):
+                raise ParameterError(f"{who}: column {text.strip()!r}: expected 'speed' or a coefficient "
+                                     f"({', '.join(_COEFFS)}), optionally with a unit in brackets, e.g. 'kxx [N/m]'")
+            columns.append((key, match.group(2)))
+        if "speed" not in [k for k, _ in columns]:
+            raise ParameterError(f"{who}: no 'speed' column; the header is {rows[0]!r}")
+        table = {key: [] for key, _ in columns}
+        for line, row in enumerate(rows[1:], start=2):
+            if len(row) != len(columns):
+                raise ParameterError(f"{who}: data row {line - 1} has {len(row)} values, expected {len(columns)}")
+            for (key, unit), text in zip(columns, row):
+                si = "rad/s" if key == "speed" else cls._units[key][0]
+                try:
+                    value = float(text)
+                except ValueError:
+                    raise ParameterError(f"{who}: data row {line - 1}, column {key!r}: {text.strip()!r} is not a "
+                                         "number") from None
+                table[key].append(to_si(f"{value!r} {unit}", si, f"{who} {key}") if unit else value)
+        speeds = table.pop("speed")
+        return cls.tabulated(station=station, speeds=speeds, **table, **options)
+
+    def to_csv(self, path):
+        """Write the table (SI units in the header) for :meth:`from_csv`."""
+        if self.speeds is None:
+            raise ParameterError(f"LinearBearing {self.label()!r}: to_csv needs a table (speeds=...)")
+        present = self._present()
+        with open(path, "w", newline="") as handle:
+            writer = csv.writer(handle)
+            writer.writerow(["speed [rad/s]"] + [f"{f} [{self._units[f][0]}]" for f in present])
+            for i, w in enumerate(self.speeds):
+                writer.writerow([repr(w)] + [repr(getattr(self, f)[i]) for f in present])
 
     def __post_init__(self):
         if self.speeds is None:
@@ -163,6 +260,7 @@ class LinearBearing(Element):
         for f, ys in tables.items():
             object.__setattr__(self, f, ys)
         self._check_direct()
+        self._check_added_mass()
 
     def _validate(self):
         who = f"LinearBearing at station {self.station!r}"
@@ -176,6 +274,14 @@ class LinearBearing(Element):
             for f in ("kxx", "kyy"):
                 if getattr(self, f) is None:
                     raise ParameterError(f"{who}: {f} is required (N/m, >= 0)")
+        for f, allowed in (("interpolation", INTERPOLATIONS), ("extrapolation", EXTRAPOLATIONS)):
+            value = getattr(self, f)
+            if not isinstance(value, str) or value not in allowed:
+                raise ParameterError(f"{who}: {f} = {value!r}: expected one of {allowed}")
+            if self.speeds is None and value != allowed[0]:
+                raise ParameterError(f"{who}: {f} = {value!r} is only used with a table (speeds=...)")
+        if self.speeds is None:
+            self._check_added_mass()
         if self.pedestal is not None:
             if not isinstance(self.pedestal, Pedestal):
                 raise ParameterError(f"{who}: pedestal = {self.pedestal!r}: expected a Pedestal(mass=..., kxx=..., "
@@ -195,6 +301,12 @@ class LinearBearing(Element):
                 if v < 0:
                     raise ParameterError(f"{who}: {f}[{i}] = {v!r} is negative; direct coefficients must be >= 0 "
                                          "(a negative direct stiffness or damping is a destabilising support)")
+
+    def _check_added_mass(self):
+        if self.mxy != self.myx:
+            raise ParameterError(f"LinearBearing at station {self.station!r}: mxy = {self.mxy!r} and myx = "
+                                 f"{self.myx!r} differ; expected a symmetric added mass (mxy == myx, both given or "
+                                 "neither): the model's mass matrix is symmetric")
 
     # -- parameters -------------------------------------------------------
     def _present(self):
@@ -252,15 +364,20 @@ class LinearBearing(Element):
             tables[base][i] = value
         speeds = tables.pop("speed")
         return LinearBearing(station=self.station, other_station=self.other_station, name=self.name,
-                             speeds=speeds, pedestal=pedestal, **tables)
+                             speeds=speeds, pedestal=pedestal, interpolation=self.interpolation,
+                             extrapolation=self.extrapolation, **tables)
 
     def structure(self):
         present = tuple(self._present())
         n = None if self.speeds is None else len(self.speeds)
         pedestal = None if self.pedestal is None else self.pedestal.structure()
+        # the interpolation only when not the default: the keys of existing models stay the same
+        table = n if (self.interpolation, self.extrapolation) == ("linear", "hold") else (
+            n, self.interpolation, self.extrapolation)
         return (type(self).__name__, self.label(), (("station", repr(self.station)),
                                                     ("other_station", repr(self.other_station)),
-                                                    ("coefficients", present), ("table", n), ("pedestal", pedestal)))
+                                                    ("coefficients", present), ("table", table),
+                                                    ("pedestal", pedestal)))
 
     # -- topology ---------------------------------------------------------
     def attached_stations(self):
@@ -330,10 +447,10 @@ class LinearBearing(Element):
             return ctx.p[f]
         n = len(self.speeds)
         return interpolate_table(ctx.speed(self.station), [ctx.p[f"speed{i}"] for i in range(n)],
-                                 [ctx.p[f"{f}{i}"] for i in range(n)])
+                                 [ctx.p[f"{f}{i}"] for i in range(n)], self.interpolation, self.extrapolation)
 
-    def _pair(self, ctx, axes, housing_axes, stiff, damp):
-        """(V, D, loads) of ``F = -K d - C d'`` on the journal's ``axes`` against the housing's."""
+    def _pair(self, ctx, axes, housing_axes, stiff, damp, mass=None):
+        """(V, D, loads, T) of ``F = -K d - C d' - M_a d''`` on the journal's ``axes`` against the housing's."""
         (xa, xad), (ya, yad) = ctx.coord(self.station, axes[0]), ctx.coord(self.station, axes[1])
         housing = None
         if housing_axes is not None:
@@ -357,7 +474,11 @@ class LinearBearing(Element):
             loads = {xa: fx, ya: fy}
             if housing is not None:
                 loads[xb], loads[yb] = -fx, -fy
-        return potential, dissipation, loads
+        kinetic = 0
+        if mass is not None:  # added mass: symmetric (mxy == myx), T = d'^T M_a d' / 2
+            m = [self.coefficient(ctx, f) for f in mass]
+            kinetic = (m[0] * dd[0] ** 2 + (m[1] + m[2]) * dd[0] * dd[1] + m[3] * dd[1] ** 2) / 2
+        return potential, dissipation, loads, kinetic
 
     def contribute(self, ctx):
         import sympy as sp
@@ -366,18 +487,18 @@ class LinearBearing(Element):
             housing = PEDESTAL_AXES
         else:
             housing = None if self.other_station is None else ("x", "y")
-        potential, dissipation, loads = self._pair(ctx, ("x", "y"), housing, _STIFF, _DAMP)
-        kinetic = sp.S.Zero
+        added = _MASS if any(getattr(self, f) is not None for f in _MASS) else None
+        potential, dissipation, loads, kinetic = self._pair(ctx, ("x", "y"), housing, _STIFF, _DAMP, added)
         if self._tilted():  # the pedestal translates only: moments act against the ground there
             tilt_housing = None if self.other_station is None else ("thx", "thy")
-            v, d, q = self._pair(ctx, ("thx", "thy"), tilt_housing, _TILT_STIFF, _TILT_DAMP)
+            v, d, q, _ = self._pair(ctx, ("thx", "thy"), tilt_housing, _TILT_STIFF, _TILT_DAMP)
             potential, dissipation = potential + v, dissipation + d
             for key, value in q.items():
                 loads[key] = loads.get(key, sp.S.Zero) + value
         if self.pedestal is not None:
             p = {f[len(_PEDESTAL):]: s for f, s in ctx.p.items() if f.startswith(_PEDESTAL)}
             t, v, d = self.pedestal.terms(p, ctx.coord(self.station, "px"), ctx.coord(self.station, "py"))
-            kinetic, potential, dissipation = t, potential + v, dissipation + d
+            kinetic, potential, dissipation = kinetic + t, potential + v, dissipation + d
             frame = base_frame(ctx)
             if frame is not None:  # the pedestal mass in a turning base
                 (px, pxd), (py, pyd) = ctx.coord(self.station, "px"), ctx.coord(self.station, "py")

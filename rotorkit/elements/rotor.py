@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
+from .damping import PREFIX as _DAMPING, Rayleigh, rayleigh_terms
 from .drive import Drive
 from .speed import SpeedProfile
 
@@ -70,6 +71,10 @@ class Rotor(Element):
         Speed relative to ``reference``.
     reference : str, optional
         Name of the rotor ``speed_ratio`` refers to.
+    damping : Rayleigh, optional
+        Proportional structural damping ``alpha M + beta K`` of the rotor's
+        shaft and disks (:mod:`rotorkit.elements.damping`); parameters
+        ``<name>_damping_alpha``, ``<name>_damping_beta``.
 
     Examples
     --------
@@ -83,6 +88,7 @@ class Rotor(Element):
     speed: float | None = None
     speed_ratio: float | None = None
     reference: str | None = None
+    damping: Rayleigh | None = None
 
     _units = {"speed": ("rad/s", None), "speed_ratio": ("", "positive")}
     _latex_names = {"speed": r"\Omega", "speed_ratio": r"\gamma"}
@@ -123,6 +129,9 @@ class Rotor(Element):
             raise ParameterError(f"Rotor {self.name!r}: reference = {self.reference!r}: expected a rotor name (str)")
         if self.speed is not None and self.reference is not None:
             raise ParameterError(f"Rotor {self.name!r}: reference is only used with speed_ratio")
+        if self.damping is not None and not isinstance(self.damping, Rayleigh):
+            raise ParameterError(f"Rotor {self.name!r}: damping = {self.damping!r}: expected Rayleigh(alpha, beta) "
+                                 "or None")
 
     def attached_stations(self):
         return self.stations
@@ -171,7 +180,16 @@ class Rotor(Element):
         return self.name
 
     def contribute(self, ctx):
-        return Terms() if self.drive is None else self.drive.contribute(self, ctx)
+        parts = [terms for terms in (None if self.drive is None else self.drive.contribute(self, ctx),
+                                     None if self.damping is None else rayleigh_terms(self, ctx)) if terms is not None]
+        if len(parts) < 2:
+            return parts[0] if parts else Terms()
+        (a, b), loads = parts, dict(parts[0].loads)
+        for q, load in b.loads.items():
+            loads[q] = loads[q] + load if q in loads else load
+        return Terms(kinetic=a.kinetic + b.kinetic, potential=a.potential + b.potential,
+                     dissipation=a.dissipation + b.dissipation, loads=loads, switches=a.switches + b.switches,
+                     quadratic=a.quadratic + b.quadratic)
 
     # -- speed profiles ------------------------------------------------------
     @property
@@ -190,30 +208,40 @@ class Rotor(Element):
         return self.profile if self.profile is not None else self.drive
 
     def parameters(self):
+        damping = {} if self.damping is None else self.damping.parameters()
         if self._law is None:
-            return Element.parameters(self)
-        return {f"speed_{k}": v for k, v in self._law.values().items()}
+            return {**Element.parameters(self), **damping}
+        return {**{f"speed_{k}": v for k, v in self._law.values().items()}, **damping}
 
     def parameter_units(self):
+        damping = {} if self.damping is None else {f: Rayleigh.unit_of(f) for f in self.damping.parameters()}
         if self._law is None:
-            return Element.parameter_units(self)
-        return {f"speed_{k}": u for k, u in self._law.units().items()}
+            return {**Element.parameter_units(self), **damping}
+        return {**{f"speed_{k}": u for k, u in self._law.units().items()}, **damping}
 
     def parameter_sign(self, field_name):
+        if field_name.startswith(_DAMPING):
+            return "nonnegative"
         if self.drive is not None:
             return self.drive.signs().get(field_name[len("speed_"):])
         return None if self.profile is not None else Element.parameter_sign(self, field_name)
 
     def unit_of(self, field_name):
+        if field_name.startswith(_DAMPING):
+            return Rayleigh.unit_of(field_name)
         if self._law is not None and field_name.startswith("speed_"):
             return self._law.units()[field_name[len("speed_"):]]
         return Element.unit_of(self, field_name)
 
     def replace_parameters(self, **fields):
-        if self._law is None:
-            return Element.replace_parameters(self, **fields)
-        new = self._law.with_values(**{k[len("speed_"):]: v for k, v in fields.items()})
-        return dataclasses.replace(self, speed=new)
+        damped = {k: fields.pop(k) for k in list(fields) if k.startswith(_DAMPING)}
+        new = self if not damped else dataclasses.replace(self, damping=self.damping.replace(**damped))
+        if not fields:
+            return new
+        if new._law is None:
+            return Element.replace_parameters(new, **fields)
+        law = new._law.with_values(**{k[len("speed_"):]: v for k, v in fields.items()})
+        return dataclasses.replace(new, speed=law)
 
     def time_event_fields(self):
         if self._law is None:
@@ -221,9 +249,13 @@ class Rotor(Element):
         return tuple(f"speed_{k}" for k in self._law.time_event_fields())
 
     def structure(self):
+        # the damping's values are parameters: only its presence is structure (absent: the key is unchanged)
+        damping = () if self.damping is None else (("damping", "Rayleigh"),)
         if self._law is None:
-            return Element.structure(self)
-        return (type(self).__name__, self.label(), (("stations", repr(self.stations)), self._law.structure()))
+            base = Element.structure(self)
+            return base[:2] + (tuple(v for v in base[2] if v[0] != "damping") + damping,)
+        return (type(self).__name__, self.label(), (("stations", repr(self.stations)), self._law.structure())
+                + damping)
 
     def spin_symbols(self):
         """``(spin, spin')`` symbols of a driven rotor's spin coordinate (named as the model's states)."""

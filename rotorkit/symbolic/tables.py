@@ -1,4 +1,4 @@
-"""Piecewise-linear tables as opaque sympy functions: ``table_value``, its slope and its exact integral.
+"""Tables as opaque sympy functions: piecewise linear (``table_value``, its slope, its integral) and PCHIP.
 
 A rotor speed given as a table (:class:`rotorkit.elements.speed.SpeedProfile`),
 a bearing coefficient tabulated against speed
@@ -6,13 +6,34 @@ a bearing coefficient tabulated against speed
 in the derivation (untouched by ``expand``, ``trigsimp``, ``cse``) and
 prints as a sum of clipped ramps, ``min``/``max`` only. They live here, not
 in the element modules, so that building a model does not import sympy.
+
+PCHIP (:class:`pchip_value`, :class:`pchip_slope`) is the monotone cubic
+Hermite interpolant of Fritsch and Carlson (1980) with the knot derivatives
+of Fritsch and Butland (1984), as ``scipy.interpolate.PchipInterpolator``
+computes them: the weighted harmonic mean of the neighbouring secant slopes
+at an interior knot (0 where they differ in sign or one is 0), the
+shape-preserving one-sided three-point formula at the ends, the secant
+slope for a two-point table. The knot values are parameters, so the
+derivatives are expressions with :func:`~rotorkit.symbolic.functions.step`
+guards (no division by zero in generated code: the guarded denominators are
+1 where the branch is not taken); the interpolant prints as a sum of clipped
+cubics, ``min``/``max`` and conditionals only, in every back end.
+
+Extrapolation (:func:`interpolate_table`): ``"hold"`` keeps the end values
+outside the table; ``"linear"`` continues along the end slope (the end
+segment's for linear tables, the end knot derivative for PCHIP; scipy's
+``PchipInterpolator`` would continue the end cubic instead).
 """
 
 import sympy as sp
 
 from .functions import ramp, step, window
 
-__all__ = ["clip", "interpolate_table", "table_value", "table_slope", "table_integral"]
+__all__ = ["clip", "interpolate_table", "table_value", "table_slope", "table_integral", "pchip_value",
+           "pchip_slope", "pchip_derivatives", "INTERPOLATIONS", "EXTRAPOLATIONS"]
+
+INTERPOLATIONS = ("linear", "pchip")
+EXTRAPOLATIONS = ("hold", "linear")
 
 
 class clip(sp.Function):
@@ -138,10 +159,107 @@ class table_integral(_Table):
         raise sp.ArgumentIndexError(self, argindex)
 
 
-def interpolate_table(x, xs, ys):
-    """Piecewise-linear ``y(x)`` through ``(xs_i, ys_i)`` (sympy), held constant outside the table.
+def pchip_derivatives(xs, ys):
+    """PCHIP knot derivatives ``d_k`` (sympy expressions of the knots), as scipy's ``PchipInterpolator``."""
+    n = len(xs)
+    h = [xs[k + 1] - xs[k] for k in range(n - 1)]
+    m = [(ys[k + 1] - ys[k]) / h[k] for k in range(n - 1)]
+    if n == 2:
+        return [m[0], m[0]]
+    d = []
+    for k in range(1, n - 1):  # weighted harmonic mean where the secants agree in sign, else 0
+        w1, w2 = 2 * h[k] + h[k - 1], h[k] + 2 * h[k - 1]
+        same = step(m[k - 1] * m[k])
+        d.append(same * (w1 + w2) * m[k - 1] * m[k] / (same * (w1 * m[k] + w2 * m[k - 1]) + 1 - same))
 
-    ``xs`` increasing. An opaque :class:`table_value` call whose generated
-    code is a sum of clipped ramps (``min``/``max`` only).
+    def edge(h0, h1, m0, m1):  # one-sided three-point estimate, kept shape-preserving
+        e = ((2 * h0 + h1) * m0 - h0 * m1) / (h0 + h1)
+        clamp = step(-m0 * m1) * step(sp.Abs(e) - 3 * sp.Abs(m0))
+        return step(e * m0) * (e + clamp * (3 * m0 - e))
+
+    return [edge(h[0], h[1], m[0], m[1])] + d + [edge(h[-1], h[-2], m[-1], m[-2])]
+
+
+def _hermite(t, x0, x1, y0, y1, d0, d1):
+    """The cubic Hermite segment through ``(x0, y0)``, ``(x1, y1)`` with end slopes ``d0``, ``d1``, at ``t``."""
+    hk = x1 - x0
+    u = (t - x0) / hk
+    return (y0 * (2 * u**3 - 3 * u**2 + 1) + hk * d0 * (u**3 - 2 * u**2 + u) + y1 * (-2 * u**3 + 3 * u**2)
+            + hk * d1 * (u**3 - u**2))
+
+
+def _hermite_slope(t, x0, x1, y0, y1, d0, d1):
+    hk = x1 - x0
+    u = (t - x0) / hk
+    return ((y0 - y1) * (6 * u**2 - 6 * u) / hk + d0 * (3 * u**2 - 4 * u + 1) + d1 * (3 * u**2 - 2 * u))
+
+
+def _pchip_sum(x, xs, ys):
+    """PCHIP as ``y_0 + sum_i [H_i(clip(x, x_i, x_i+1)) - y_i]``: held at the end values outside."""
+    d = pchip_derivatives(xs, ys)
+    out = ys[0]
+    for i in range(len(xs) - 1):
+        out += _hermite(clip(x, xs[i], xs[i + 1]), xs[i], xs[i + 1], ys[i], ys[i + 1], d[i], d[i + 1]) - ys[i]
+    return out
+
+
+def _pchip_slope(x, xs, ys):
+    d = pchip_derivatives(xs, ys)
+    out = sp.S.Zero
+    for i in range(len(xs) - 1):
+        out += window(x, xs[i], xs[i + 1]) * _hermite_slope(x, xs[i], xs[i + 1], ys[i], ys[i + 1], d[i], d[i + 1])
+    return out
+
+
+class pchip_slope(_Table):
+    """d/dx of :class:`pchip_value` inside the table, 0 outside (its own derivative is taken as 0)."""
+
+    _inline = staticmethod(_pchip_slope)
+    _latex_name = "pchip'"
+
+    def fdiff(self, argindex=1):
+        if argindex == 1:
+            return sp.S.Zero
+        raise sp.ArgumentIndexError(self, argindex)
+
+
+class pchip_value(_Table):
+    """PCHIP ``y(x)`` through the knots (as scipy's ``PchipInterpolator``), held constant outside the table."""
+
+    _inline = staticmethod(_pchip_sum)
+    _latex_name = "pchip"
+
+    def fdiff(self, argindex=1):
+        if argindex == 1:
+            return pchip_slope(*self.args)
+        raise sp.ArgumentIndexError(self, argindex)
+
+
+def interpolate_table(x, xs, ys, interpolation="linear", extrapolation="hold"):
+    """``y(x)`` through ``(xs_i, ys_i)`` (sympy), ``xs`` increasing.
+
+    Parameters
+    ----------
+    interpolation : {"linear", "pchip"}
+        Piecewise linear (an opaque :class:`table_value` call, a sum of
+        clipped ramps in code) or PCHIP (:class:`pchip_value`).
+    extrapolation : {"hold", "linear"}
+        Outside the table: the end values, or the end values continued
+        along the end slopes (``ramp`` terms added to the held table).
     """
-    return table_value(x, *xs, *ys)
+    if interpolation not in INTERPOLATIONS:
+        raise ValueError(f"interpolation = {interpolation!r}: expected one of {INTERPOLATIONS}")
+    if extrapolation not in EXTRAPOLATIONS:
+        raise ValueError(f"extrapolation = {extrapolation!r}: expected one of {EXTRAPOLATIONS}")
+    if interpolation == "linear":
+        value = table_value(x, *xs, *ys)
+        first = (ys[1] - ys[0]) / (xs[1] - xs[0])
+        last = (ys[-1] - ys[-2]) / (xs[-1] - xs[-2])
+    else:
+        value = pchip_value(x, *xs, *ys)
+        if extrapolation == "linear":
+            d = pchip_derivatives(xs, ys)
+            first, last = d[0], d[-1]
+    if extrapolation == "linear":
+        value = value - first * ramp(xs[0] - x) + last * ramp(x - xs[-1])
+    return value
