@@ -119,6 +119,39 @@ def _evaluate(expr):
     return float(eval(code, {"__builtins__": {"max": max, "min": min, "abs": abs}}, vars(math)))
 
 
+def _symbolic_reactions(system, model, holding, q, t):
+    """Element label -> force on the rotor at rest at ``q``, from each element's energy terms (any model)."""
+    import sympy as sp
+
+    from ..model import Context
+    from ..symbolic.lagrange import Symbols
+
+    names = tuple(system.coordinate_names)
+    symbols = Symbols(model)
+    ctx = Context(model, symbols)
+    values = {symbols.parameters[k]: sp.Float(v) for k, v in system.parameters.items()}
+    values.update({sym: sp.Float(0) for name, sym in symbols.parameters.items() if name.endswith("_eccentricity")})
+    values.update({symbols.coordinates[n]: sp.Float(float(v)) for n, v in zip(names, q)})
+    values.update({s: sp.Float(0) for s in symbols.speeds.values()})
+    values[symbols.t] = sp.Float(float(t))
+    reactions = {}
+    for element in holding:
+        terms = element.contribute(ctx.bind(element))
+        V = sp.sympify(terms.potential)
+        forces = {}
+        for name in names:
+            sym = symbols.coordinates[name]
+            expr = -sp.diff(V, sym) if V != 0 and sym in V.free_symbols else sp.S.Zero
+            expr += terms.loads.get(sym, sp.S.Zero)
+            if expr != 0:
+                value = _evaluate(sp.sympify(expr).xreplace(values))
+                if value != 0.0:
+                    forces[name] = value
+        if forces:
+            reactions[element.label()] = forces
+    return reactions
+
+
 def static_deflection(system, t=0.0, **equilibrium):
     """Static deflection under the loads at ``t`` and the reactions of the supports.
 
@@ -144,39 +177,16 @@ def static_deflection(system, t=0.0, **equilibrium):
     >>> round(s.deflection["y1"] * 1e6, 3), round(s.reaction("support1", 1)[1], 6)   # -m g / k, m g
     (-981.0, 19.62)
     """
-    import sympy as sp
-
-    from ..model import Context
-    from ..symbolic.lagrange import Symbols
-
     _check_system(system, "static_deflection")
     q = static_equilibrium(system, t, **equilibrium)
     names = tuple(system.coordinate_names)
     model = system.model
-    symbols = Symbols(model)
-    ctx = Context(model, symbols)
-    values = {symbols.parameters[k]: sp.Float(v) for k, v in system.parameters.items()}
-    values.update({sym: sp.Float(0) for name, sym in symbols.parameters.items() if name.endswith("_eccentricity")})
-    values.update({symbols.coordinates[n]: sp.Float(float(v)) for n, v in zip(names, q)})
-    values.update({s: sp.Float(0) for s in symbols.speeds.values()})
-    values[symbols.t] = sp.Float(float(t))
-    reactions = {}
-    for element in model.elements:
-        if not holds_rotor(element, model):
-            continue
-        terms = element.contribute(ctx.bind(element))
-        V = sp.sympify(terms.potential)
-        forces = {}
-        for name in names:
-            sym = symbols.coordinates[name]
-            expr = -sp.diff(V, sym) if V != 0 and sym in V.free_symbols else sp.S.Zero
-            expr += terms.loads.get(sym, sp.S.Zero)
-            if expr != 0:
-                value = _evaluate(sp.sympify(expr).xreplace(values))
-                if value != 0.0:
-                    forces[name] = value
-        if forces:
-            reactions[element.label()] = forces
+    from .linear_matrices import element_forces
+
+    holding = [e for e in model.elements if holds_rotor(e, model)]
+    reactions = element_forces(model, q, t, system.parameters, holding)  # linear model: the cached matrices
+    if reactions is None:
+        reactions = _symbolic_reactions(system, model, holding, q, t)
     from .linear_matrices import station_positions
 
     return StaticDeflection(deflection=dict(zip(names, (float(v) for v in q))), reactions=reactions, t=float(t),

@@ -21,7 +21,7 @@ import sympy as sp
 
 from ..errors import TopologyError
 
-__all__ = ["EquationsOfMotion", "derive", "Symbols"]
+__all__ = ["EquationsOfMotion", "derive", "element_matrices", "Symbols"]
 
 _CACHE = {}
 
@@ -379,6 +379,58 @@ def derive(model):
                               f"{len(model.elements)} elements)"):
             _CACHE[key] = _derive(model)
     return _CACHE[key]
+
+
+def element_matrices(model):
+    """Each element's own contribution, as :func:`derive` assembles it, without assembling the model.
+
+    Yields, per element of ``model`` in order, ``(element, p, M, K, C, F)``:
+    ``p`` maps the element's fields to their parameter symbols; ``M``, ``K``,
+    ``C`` are ``{(i, j): expression}`` (coordinate indices; the mass filled
+    on both sides of the diagonal); ``F`` is ``{i: expression}``, the
+    element's generalised forces beyond ``-K q - C q'`` (loads, gyroscopic
+    and other velocity terms, nonlinear forces). Summed over the elements
+    these are the matrices and forces of ``derive(model)``. Identical
+    elements (the beam segments of a shaft) share one derivation.
+
+    Returns
+    -------
+    tuple
+        ``(symbols, iterator)``: the model's :class:`Symbols` and the
+        per-element iterator.
+    """
+    from ..model import Context
+
+    symbols = Symbols(model)
+    qs = tuple(symbols.coordinates.values())
+    us = tuple(symbols.speeds.values())
+    t = symbols.t
+    q_index = {q: i for i, q in enumerate(qs)}
+    templates = _Templates(qs, us, t)
+    ctx = Context(model, symbols)
+
+    def contributions():
+        for element in model.elements:
+            bound = ctx.bind(element)
+            terms = element.contribute(bound)
+            mass, force, Ke, Ce = templates.contribution(terms, bound.p)
+            M, K, C = {}, {}, {}
+            force = dict(force)
+            for form in terms.quadratic:
+                _add_quadratic(form, q_index, M, K, C, force, {"kinetic": [], "potential": [], "dissipation": []},
+                               t)
+            for (i, j), mij in mass.items():
+                _add(M, (i, j), mij)
+                if i != j:
+                    _add(M, (j, i), mij)
+            for (i, j), v in Ke.items():
+                _add(K, (i, j), v)
+            for (i, j), v in Ce.items():
+                _add(C, (i, j), v)
+            yield (element, bound.p, *({k: sp.Add(*v) for k, v in A.items()} for A in (M, K, C)),
+                   {i: v for i, v in force.items() if v != 0})
+
+    return symbols, contributions()
 
 
 def _derive(model):
