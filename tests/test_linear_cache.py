@@ -173,3 +173,24 @@ def test_a_warm_process_does_not_derive(tmp_path):
         counts.append(int(out.stdout.split("CALLS")[-1]))
     assert counts[0] >= 1  # the cold process derives (the count sees it)
     assert counts[1] == 0  # the warm one reads the cache
+
+
+def test_static_deflection_of_a_linear_model_is_solved_from_the_cached_matrices():
+    """K q = F without compiling: equals the compiled system's equilibrium, and the reactions carry the weight."""
+    from rotorkit import Maneuver
+    from rotorkit.analysis.static import static_deflection
+
+    model = Model(list(beam_rotor().elements) + [Maneuver.steady(gravity=9.81)], name="beam_rotor_gravity")
+    direct = static_deflection(model)
+    compiled = static_deflection(model.compile(backend="python"))
+    names = model.coordinate_names
+    scale = max(abs(v) for v in compiled.deflection.values())
+    for name in names:
+        assert direct.deflection[name] == pytest.approx(compiled.deflection[name], abs=1e-7 * scale)
+    weight = 9.81 * (8.0 + 5.0 + 7850.0 * np.pi * 0.05**2 / 4 * 0.6)
+    lift = sum(f for forces in direct.reactions.values() for c, f in forces.items() if c.startswith("y"))
+    assert lift == pytest.approx(weight, rel=1e-9)
+    assert set(direct.reactions) == set(compiled.reactions) == {"linearbearing1", "linearbearing4"}
+    for label, forces in compiled.reactions.items():
+        for c, f in forces.items():
+            assert direct.reactions[label].get(c, 0.0) == pytest.approx(f, rel=1e-6, abs=1e-9 * weight)

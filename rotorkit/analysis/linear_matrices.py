@@ -37,6 +37,7 @@ import numpy as np
 from ..errors import ParameterError
 
 __all__ = ["LinearMatrices", "linear_evaluator", "linear_matrices", "symbolic_linear_evaluator", "element_forces",
+           "linear_static_deflection",
            "frozen_speed_model", "rotor_spin_speeds", "station_positions"]
 
 #: (structure, parameter values, t, free parameters) -> LinearMatrices or None (not linear); a few kept
@@ -371,6 +372,68 @@ def element_forces(model, q, t=0.0, values=None, elements=None):
         if forces:
             out[label] = forces
     return out
+
+
+def _loads_at_rest(module, p, t):
+    """Sum of every element's force at rest (N, N m), shape (n,)."""
+    from ..codegen.linear_cache import template_function
+
+    F = np.zeros(int(module.N_COORDINATES))
+    for template, params, coords, _ in module.ELEMENTS:
+        load_rows, load_exprs = module.TEMPLATES[template][6:8]
+        if load_exprs:
+            values = template_function(module, template, loads=True)([p[k] for k in params], t)
+            np.add.at(F, np.asarray(coords)[list(load_rows)], values)
+    return F
+
+
+def linear_static_deflection(model, t=0.0, values=None):
+    """Coordinates at rest under the static loads of a linear model, ``K q = F(0)``, or None if it is not linear.
+
+    Parameters
+    ----------
+    model : rotorkit.Model
+    t : float
+        Time (s) of the loads.
+    values : dict, optional
+        Parameter name -> value (SI), default ``model.parameters``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), or None
+        ``q`` (m, rad) in ``model.coordinate_names`` order.
+
+    Raises
+    ------
+    ParameterError
+        If ``K`` is singular (a rotor without a stiffness path to a support).
+    """
+    from scipy.sparse.linalg import MatrixRankWarning, spsolve
+
+    from ..codegen.linear_cache import linear_module
+
+    module = linear_module(model)
+    if not module.LINEAR:
+        return None
+    values = model.parameters if values is None else values
+    evaluator = linear_evaluator(model, t, values)
+    _, _, K = evaluator()
+    p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in module.PARAMETERS]
+    F = _loads_at_rest(module, p, float(t))
+    if not np.any(F):
+        return np.zeros(F.size)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MatrixRankWarning)
+        try:
+            q = spsolve(K.tocsc(), F)
+        except MatrixRankWarning:
+            q = np.full(F.size, np.nan)
+    if not np.all(np.isfinite(q)):
+        raise ParameterError(f"static deflection of {model.name!r}: the stiffness matrix is singular; a rotor may "
+                             "have no stiffness path to a support")
+    return q
 
 
 def _profile_speed(rotor, t):

@@ -157,11 +157,17 @@ def static_deflection(system, t=0.0, **equilibrium):
 
     Parameters
     ----------
-    system : rotorkit.System
+    system : rotorkit.System or rotorkit.Model
+        A model whose equations are linear (beams, disks, linear bearings)
+        is solved directly, ``K q = F``, from its cached matrices
+        (:func:`~rotorkit.analysis.linear_matrices.linear_static_deflection`:
+        nothing compiled); any other model is compiled first.
     t : float
         Time (s) of the load (a manoeuvre's load at that instant; gravity).
     **equilibrium
-        Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`.
+        Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`
+        (a compiled system, or a model that is not linear or is given
+        any of these options).
 
     Returns
     -------
@@ -177,14 +183,23 @@ def static_deflection(system, t=0.0, **equilibrium):
     >>> round(s.deflection["y1"] * 1e6, 3), round(s.reaction("support1", 1)[1], 6)   # -m g / k, m g
     (-981.0, 19.62)
     """
-    _check_system(system, "static_deflection")
-    q = static_equilibrium(system, t, **equilibrium)
-    names = tuple(system.coordinate_names)
-    model = system.model
-    from .linear_matrices import element_forces
+    from .linear_matrices import element_forces, linear_static_deflection
+
+    q = None
+    if not hasattr(system, "rhs") and hasattr(system, "compile") and hasattr(system, "elements"):  # a Model
+        t = float(t)
+        q = None if equilibrium else linear_static_deflection(system, t)
+        if q is None:
+            system = system.compile()
+        else:
+            model, parameters, names = system, system.parameters, tuple(system.coordinate_names)
+    if q is None:
+        _check_system(system, "static_deflection")
+        q = static_equilibrium(system, t, **equilibrium)
+        model, parameters, names = system.model, system.parameters, tuple(system.coordinate_names)
 
     holding = [e for e in model.elements if holds_rotor(e, model)]
-    reactions = element_forces(model, q, t, system.parameters, holding)  # linear model: the cached matrices
+    reactions = element_forces(model, q, t, parameters, holding)  # linear model: the cached matrices
     if reactions is None:
         reactions = _symbolic_reactions(system, model, holding, q, t)
     from .linear_matrices import station_positions

@@ -21,7 +21,9 @@ verified entries as the right-hand side) under ``<structure key>_linear``::
                   not affine in (a tabulated coefficient against the speed);
                   then the local rows and expressions of the element's
                   force at rest (``q = q' = 0``: gravity on its mass, a
-                  preload), for its static reaction
+                  preload), for its static reaction; last the template's
+                  common subexpressions ``(name, expression)``, computed
+                  before the entries
     ELEMENTS      per element: template, global indices of its parameters
                   (its ``a``), global indices of its coordinates, its label
 
@@ -39,7 +41,7 @@ from __future__ import annotations
 __all__ = ["linear_module", "template_function", "generate_linear_source", "equations_text"]
 
 #: version of the generated layout; an entry of another version is generated again
-LINEAR_FORMAT = 2
+LINEAR_FORMAT = 3
 _MODULES = {}
 _FUNCTIONS = {}
 
@@ -181,15 +183,21 @@ def generate_linear_source(model):
             held = v.free_symbols
             depends.append(tuple(int(s.name[2:]) for s in placeholders if s in held) + ((-1,) if t in held else ()))
             nonaffine.append(tuple(int(s.name[2:]) for s in placeholders if s in held and not _affine(v, s)))
+        # common subexpressions of the template (a beam's entries share its shear factor, areas, inertias)
+        exprs = [e[3] for e in renamed] + [v for _, v in renamed_loads]
+        replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="none")
+        prelude = tuple((str(sym), printer.doprint(value)) for sym, value in replacements)
         printed.append((tuple(e[0] for e in renamed), tuple(e[1] for e in renamed), tuple(e[2] for e in renamed),
-                        tuple(printer.doprint(e[3]) for e in renamed), tuple(depends), tuple(nonaffine),
-                        tuple(i for i, _ in renamed_loads), tuple(printer.doprint(v) for _, v in renamed_loads)))
+                        tuple(printer.doprint(v) for v in reduced[:len(renamed)]), tuple(depends), tuple(nonaffine),
+                        tuple(i for i, _ in renamed_loads), tuple(printer.doprint(v) for v in reduced[len(renamed):]),
+                        prelude))
     lines = header + [
         "LINEAR = True",
         f"PARAMETERS = {names!r}",
         "# per template: (matrix 0 M / 1 C / 2 K, local rows, local cols, expressions of a and t,",
         "#                local parameters each entry holds (-1: t), those it is not affine in,",
-        "#                local rows of the force at rest, its expressions of a and t)",
+        "#                local rows of the force at rest, its expressions of a and t,",
+        "#                common subexpressions (name, expression) computed first)",
         "TEMPLATES = (",
         *(f"    {entry!r}," for entry in printed),
         ")",
@@ -217,19 +225,33 @@ def template_function(module, template, selection=None, loads=False):
     import math
 
     expressions = module.TEMPLATES[template][7 if loads else 3]
+    prelude = module.TEMPLATES[template][8]
     selection = tuple(range(len(expressions))) if selection is None else tuple(int(i) for i in selection)
     key = (id(module), template, selection, loads)
     function = _FUNCTIONS.get(key)
     if function is None:
+        needed = _needed(prelude, [expressions[i] for i in selection])
+        head = "".join(f"    {name} = {code}\n" for name, code in prelude if name in needed)
         body = "".join(f"        ({expressions[i]}),\n" for i in selection)
         namespace = dict(vars(math))
         namespace.update({"max": max, "min": min, "abs": abs})
-        exec(compile(f"def _entries(a, t):\n    return [\n{body}    ]\n", "<rotorkit linear matrices>", "exec"),
-             namespace)
+        exec(compile(f"def _entries(a, t):\n{head}    return [\n{body}    ]\n", "<rotorkit linear matrices>",
+                     "exec"), namespace)
         function = _FUNCTIONS[key] = namespace["_entries"]
         if len(_FUNCTIONS) > 256:
             _FUNCTIONS.pop(next(iter(_FUNCTIONS)))
     return function
+
+
+def _needed(prelude, expressions):
+    """Names of the common subexpressions that ``expressions`` use, directly or through one another."""
+    import re
+
+    used = set(re.findall(r"\b_c\d+\b", " ".join(expressions)))
+    for name, code in reversed(prelude):
+        if name in used:
+            used.update(re.findall(r"\b_c\d+\b", code))
+    return used
 
 
 def equations_text(model, latex=False):
