@@ -86,6 +86,40 @@ def _affine(expr, s):
     return False
 
 
+def _linear_parts(expr, states):
+    """``{state: coefficient, None: the rest}`` of an expression linear in ``states`` by its form, or None.
+
+    Sums and products are walked (a product may hold the states in one
+    factor only); anything else that holds a state (a power, a function, a
+    product of two states) gives None and is left to differentiation.
+    """
+    import sympy as sp
+
+    if not expr.free_symbols & states:
+        return {None: expr}
+    if expr in states:
+        return {expr: sp.S.One}
+    if expr.is_Add:
+        out = {}
+        for arg in expr.args:
+            parts = _linear_parts(arg, states)
+            if parts is None:
+                return None
+            for key, value in parts.items():
+                out[key] = out.get(key, sp.S.Zero) + value
+        return out
+    if expr.is_Mul:
+        holding = [a for a in expr.args if a.free_symbols & states]
+        if len(holding) != 1:
+            return None
+        parts = _linear_parts(holding[0], states)
+        if parts is None:
+            return None
+        factor = sp.Mul(*(a for a in expr.args if a is not holding[0]))
+        return {key: factor * value for key, value in parts.items()}
+    return None
+
+
 def generate_linear_source(model):
     """Python source of the linear-matrix module of ``model``'s structure, or of one that says it is not linear.
 
@@ -144,14 +178,20 @@ def generate_linear_source(model):
                     entries.setdefault((which, i, j), []).append(v)
         for i, f in F.items():
             f = sp.sympify(f).xreplace(zero)
-            rest = f.xreplace(at_rest)
-            if rest != 0:
-                loads[i] = rest
-            for s in f.free_symbols & states:
-                d = sp.diff(f, s)
-                if d.free_symbols & states:
-                    return not_linear  # contact, Hertzian bearing
-                if d != 0:
+            parts = _linear_parts(f, states)  # by the form of the terms: no differentiation
+            if parts is None:  # not written as a sum of state times coefficient: differentiate
+                parts = {None: f.xreplace(at_rest)}
+                for s in f.free_symbols & states:
+                    d = sp.diff(f, s)
+                    if d.free_symbols & states:
+                        return not_linear  # contact, Hertzian bearing
+                    parts[s] = d
+            for s, d in parts.items():
+                if d == 0:
+                    continue
+                if s is None:
+                    loads[i] = d
+                else:
                     key = (2, i, q_index[s]) if s in q_index else (1, i, u_index[s])
                     entries.setdefault(key, []).append(-d)
         values = {key: sp.Add(*terms) for key, terms in entries.items()}
