@@ -10,9 +10,10 @@ Each task is one fresh ``python`` process doing what a user types, from
 ``import rotorkit`` to the answer (model file load included):
 
 ``campbell``   load + ``campbell(model, 33 speeds 0..1600 rad/s)``
-``map``        load + ``critical_speed_map`` of the rotor without its
-               bearings, supports at stations 3 and 18, 13 stiffnesses
-               1e6..1e10 N/m x 50 speeds 0..1600 rad/s
+``map``        load + ``critical_speed_map`` of the rotor with its bearings
+               replaced by 1 N/m supports (a model needs a stiffness path
+               to ground), supports varied at stations 3 and 18, 13
+               stiffnesses 1e6..1e10 N/m x 50 speeds 0..1600 rad/s
 ``unbalance``  load + ``unbalance_response(model, ..., 600 speeds)``
 ``static``     load + ``static_deflection(model)`` (gravity)
 ``equations``  ``rotorkit equations examples/compressor.toml`` (the CLI)
@@ -58,11 +59,12 @@ TASKS = {
         "diagram = campbell(model, np.linspace(0.0, 1600.0, 33), n_modes=6)\n"
         "assert len(diagram.speeds) == 33\n"),
     "map": _LOAD + (
-        "from rotorkit import Model\n"
+        "from rotorkit import ElasticSupport, Model\n"
         "from rotorkit.elements import LinearBearing\n"
         "from rotorkit.analysis.linear_model import linear_model\n"
         "from rotorkit.analysis.critical_map import critical_speed_map\n"
-        "shaft = Model([e for e in model.elements if not isinstance(e, LinearBearing)], name='compressor_shaft')\n"
+        "shaft = Model([e for e in model.elements if not isinstance(e, LinearBearing)]\n"
+        "              + [ElasticSupport(station=s, stiffness=1.0) for s in (3, 18)], name='compressor_shaft')\n"
         "result = critical_speed_map(linear_model(shaft), supports=(3, 18), stiffnesses=np.logspace(6, 10, 13),\n"
         "                            speed_range=(0.0, 1600.0), n_speeds=50)\n"
         "assert result.speeds.shape[0] == 13\n"),

@@ -303,7 +303,7 @@ class _Templates:
 
 
 def _add_quadratic(form, q_index, M, K, C, force, totals, t=None):
-    """Add a :class:`~rotorkit.elements.base.QuadraticForm`'s matrices (and energies) in place."""
+    """Add a :class:`~rotorkit.elements.base.QuadraticForm`'s matrices (and energies, unless ``totals`` is None)."""
     idx = [q_index[q] for q in form.coordinates]
     m = len(idx)
     for A, target in ((form.mass, M), (form.stiffness, K), (form.damping, C)):
@@ -321,6 +321,8 @@ def _add_quadratic(form, q_index, M, K, C, force, totals, t=None):
                 row += sp.Add(*[sp.diff(N[a, b], t) * form.coordinates[b] for b in range(m) if N[a, b] != 0])
             if row != 0:
                 force[idx[a]] = force.get(idx[a], sp.S.Zero) - row
+    if totals is None:  # matrices only (element_matrices): the energies are not needed
+        return
     for name, value in (("kinetic", form.kinetic()), ("potential", form.potential()),
                         ("dissipation", form.dissipation())):
         if value != 0:
@@ -417,8 +419,7 @@ def element_matrices(model):
             M, K, C = {}, {}, {}
             force = dict(force)
             for form in terms.quadratic:
-                _add_quadratic(form, q_index, M, K, C, force, {"kinetic": [], "potential": [], "dissipation": []},
-                               t)
+                _add_quadratic(form, q_index, M, K, C, force, None, t)
             for (i, j), mij in mass.items():
                 _add(M, (i, j), mij)
                 if i != j:
