@@ -194,3 +194,16 @@ def test_static_deflection_of_a_linear_model_is_solved_from_the_cached_matrices(
     for label, forces in compiled.reactions.items():
         for c, f in forces.items():
             assert direct.reactions[label].get(c, 0.0) == pytest.approx(f, rel=1e-6, abs=1e-9 * weight)
+
+
+def test_frequency_response_with_speed_dependent_bearings_is_exact_at_its_speed():
+    from rotorkit.analysis.frf import frequency_response
+
+    model = beam_rotor()
+    linear = linear_model(model, speed=200.0)  # built far from the speed of the FRF
+    frequencies = np.linspace(10.0, 2000.0, 7)
+    for method in ("banded", "dense"):
+        frf = frequency_response(linear, frequencies, speed=900.0, inputs=["x2"], outputs=["x2", "y3"], method=method)
+        at_900 = linear_model(model, speed=900.0, speed_dependence="first-order")  # exact at 900 itself
+        ref = frequency_response(at_900, frequencies, speed=900.0, inputs=["x2"], outputs=["x2", "y3"], method=method)
+        np.testing.assert_allclose(frf.values, ref.values, rtol=0, atol=1e-10 * np.abs(ref.values).max())
