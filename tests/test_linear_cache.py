@@ -207,3 +207,16 @@ def test_frequency_response_with_speed_dependent_bearings_is_exact_at_its_speed(
         at_900 = linear_model(model, speed=900.0, speed_dependence="first-order")  # exact at 900 itself
         ref = frequency_response(at_900, frequencies, speed=900.0, inputs=["x2"], outputs=["x2", "y3"], method=method)
         np.testing.assert_allclose(frf.values, ref.values, rtol=0, atol=1e-10 * np.abs(ref.values).max())
+
+
+def test_the_compressor_example_is_the_rotor_of_the_benchmark():
+    import rotorkit as rk
+
+    model = rk.load_model(ROOT / "examples" / "compressor.toml")
+    assert len(model.coordinate_names) == 80
+    kinds = [type(e).__name__ for e in model.elements]
+    assert kinds.count("BeamSegment") == 19 and kinds.count("Disk") == 4 and kinds.count("LinearBearing") == 2
+    bearings = [e for e in model.elements if isinstance(e, LinearBearing)]
+    assert all(b.speeds is not None and b.kxx != b.kyy for b in bearings)  # tabulated, anisotropic
+    assert sum(b.kxy is not None for b in bearings) == 1  # one cross-coupled
+    assert model.parameters["R_speed"] == pytest.approx(10000 * 2 * np.pi / 60)
