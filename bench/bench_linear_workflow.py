@@ -98,7 +98,8 @@ def run(task, file, cache, root=ROOT):
     env = dict(os.environ, ROTORKIT_CACHE_DIR=str(cache), PYTHONPATH=str(root), OPENBLAS_NUM_THREADS="1",
                OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
     cpu0, t0 = _children_cpu(), time.perf_counter()
-    proc = subprocess.run(command(task, file), env=env, capture_output=True, text=True, cwd=root)  # cwd first on sys.path
+    # cwd comes first on the child's sys.path: run in the tree whose rotorkit is measured
+    proc = subprocess.run(command(task, file), env=env, capture_output=True, text=True, cwd=root)
     elapsed, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
     if proc.returncode != 0:
         raise SystemExit(f"{task} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")

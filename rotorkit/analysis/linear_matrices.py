@@ -127,7 +127,8 @@ def _from_module(module, values, t, free):
     speed_like = all(name.endswith("_speed") for name in free)
     t = float(t)
     fixed = [[], [], []]  # per matrix: lists of (rows, cols, values) arrays
-    moving = []  # (template, selection, a, slots, rows, cols, matrix, nonaffine) of each element with free entries
+    moving = []  # per element with free entries: (template, selection, a, free slots, selection array,
+    #              coordinates, not-affine flags)
     for template, params, coords, _label in module.ELEMENTS:
         matrix, lrows, lcols, _, depends, nonaffine = module.TEMPLATES[template][:6]
         coords = np.asarray(coords, dtype=np.int64)

@@ -214,8 +214,8 @@ def generate_linear_source(model):
         elements.append((template_index[key], tuple(index[s] for s in params), tuple(coords), element.label()))
     printed = []
     for renamed, renamed_loads in templates:
-        placeholders = sorted(set().union(*(e[3].free_symbols for e in renamed),
-                                          *(v.free_symbols for _, v in renamed_loads)) - {t}, key=lambda s: int(s.name[2:]))
+        held = set().union(*(e[3].free_symbols for e in renamed), *(v.free_symbols for _, v in renamed_loads))
+        placeholders = sorted(held - {t}, key=lambda s: int(s.name[2:]))
         printer = RhsPrinter({**{s: f"a[{s.name[2:]}]" for s in placeholders}, t: "t"})
         printer._settings["order"] = "none"
         depends, nonaffine = [], []
