@@ -137,7 +137,8 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
         model = LinearModel(mass=rotor.mass, damping=np.zeros_like(K), stiffness=K, gyroscopic=rotor.gyroscopic,
                             circulatory=rotor.circulatory, coordinate_names=rotor.coordinate_names,
                             rotor_speeds=rotor.rotor_speeds, station_rotors=rotor.station_rotors,
-                            speed_parameter=rotor.speed_parameter)
+                            speed_parameter=rotor.speed_parameter,
+                            speed_terms=None if rotor.speed_terms is None else rotor.speed_terms.stiffness_only())
         diagram = campbell(model, grid, n_modes=n_modes)
         for kind, out in (("forward", fwd), ("backward", bwd)):
             found = sorted({round(c.speed, 9) for c in diagram.crossings

@@ -72,7 +72,15 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
     shared = F.ndim == 2
     r = F.shape[-1]
     out = np.empty((w.size, n, r), dtype=complex)
-    perm, lower, upper = band_structure(M, C, K, G, H)
+    terms = getattr(model, "speed_terms", None)  # entries not affine in the speed, exact at each one
+    extra = () if terms is None else (terms.pattern(),)
+    perm, lower, upper = band_structure(M, C, K, G, H, *extra)
+
+    def exact(k, om):
+        """Positions and complex values of the speed terms' part of the dynamic stiffness at point ``k``."""
+        v = np.asarray(terms.values(float(speeds[k])), dtype=complex)
+        v[terms.matrix == 1] *= 1j * om
+        return v
     if method == "auto":
         method = "banded" if lower + upper + 1 <= BANDED_FRACTION * n else "dense"
     if method == "banded":
@@ -85,9 +93,13 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
         for A, band in zip((M, C, K, G, H), (Mb, Cb, Kb, Gb, Hb)):
             band[band_rows, j_idx] = A[np.ix_(perm, perm)][i_idx, j_idx]
         rhs_all = (F[perm] if shared else F[:, perm])
+        inverse = np.empty(n, dtype=np.int64)
+        inverse[perm] = np.arange(n)
         for k in range(w.size):
             W, om = speeds[k], w[k]
             ab = (Kb + W * Hb - om * om * Mb) + 1j * om * (Cb + W * Gb)
+            if terms is not None:
+                np.add.at(ab, (upper + inverse[terms.rows] - inverse[terms.cols], inverse[terms.cols]), exact(k, om))
             out[k][perm] = solve_banded((lower, upper), ab, rhs_all if shared else rhs_all[k],
                                         overwrite_ab=True, check_finite=False)
         return out
@@ -96,6 +108,9 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
         sl = slice(start, min(start + batch, w.size))
         W, om = speeds[sl, None, None], w[sl, None, None]
         D = K + W * H - om * om * M + 1j * om * (C + W * G)
+        if terms is not None:
+            for k in range(sl.start, sl.stop):
+                np.add.at(D[k - sl.start], (terms.rows, terms.cols), exact(k, w[k]))
         rhs = np.broadcast_to(F, (D.shape[0], n, r)) if shared else F[sl]
         out[sl] = np.linalg.solve(D, rhs)
     return out

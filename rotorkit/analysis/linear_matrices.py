@@ -5,11 +5,15 @@ elastic supports, gyroscopics) has equations ``M q'' + C q' + K q = F(t)``
 whose matrices the derivation already holds symbolically and sparsely
 (:class:`~rotorkit.symbolic.lagrange.EquationsOfMotion`: ``mass_matrix``,
 ``stiffness``, ``damping``, and the element forces, e.g. the gyroscopic
-``-W G q'`` and a speed-dependent bearing's ``-K(W) q - C(W) q'``). Here
-they are turned, once per model structure, into one generated Python
-function of the parameters and the time that returns every nonzero entry:
-a speed sweep then evaluates numbers, it never differentiates the
-right-hand side numerically or re-linearises.
+``-W G q'`` and a speed-dependent bearing's ``-K(W) q - C(W) q'``). They
+are turned, once per model structure, into generated Python expressions of
+the parameters and the time, one per nonzero entry, and kept in the model
+cache beside the right-hand side (:mod:`rotorkit.codegen.linear_cache`):
+a process with a warm cache never derives, and a speed sweep evaluates
+numbers, it never differentiates the right-hand side numerically or
+re-linearises. :func:`symbolic_linear_evaluator` builds the same matrices
+from the derived equations in this process (the reference the cache is
+tested against).
 
 A model with a force that is not linear in the coordinates and their
 rates (Hertzian ball bearings, rub contacts) has no such matrices:
@@ -32,8 +36,9 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["LinearMatrices", "linear_evaluator", "linear_matrices", "frozen_speed_model", "rotor_spin_speeds",
-           "station_positions"]
+__all__ = ["LinearMatrices", "linear_evaluator", "linear_matrices", "symbolic_linear_evaluator", "element_forces",
+           "linear_static_deflection",
+           "frozen_speed_model", "rotor_spin_speeds", "station_positions"]
 
 #: (structure, parameter values, t, free parameters) -> LinearMatrices or None (not linear); a few kept
 _CACHE = {}
@@ -54,24 +59,53 @@ class LinearMatrices:
     do not depend on the free parameters are numbers already; the others
     (gyroscopic terms, speed-dependent bearing coefficients) are small
     expressions of them, evaluated by one generated function.
+
+    Attributes
+    ----------
+    n : int
+        Number of coordinates.
+    free : tuple of str
+        The free parameters, given at each call.
+    variable_entries : tuple of (numpy.ndarray, numpy.ndarray, numpy.ndarray)
+        ``(matrix, rows, cols)`` of the entries that depend on the free
+        parameters (``matrix``: 0 for M, 1 for C, 2 for K), in the order of
+        :meth:`variable_values`.
+    nonaffine : numpy.ndarray of bool
+        Per variable entry: True where it is not affine in the free
+        parameters (a tabulated coefficient), or not known to be.
     """
 
-    def __init__(self, n, free, constant, variable, source):
+    def __init__(self, n, free, constant, variable, function, nonaffine=None, select=None):
         self.n = n
+        self._select = select  # mask -> function of the free values returning the masked variable entries
         self.free = free
         self._constant = constant  # per matrix: (rows, cols, values)
-        self._variable = variable  # per matrix: (rows, cols), values from the generated function in order
-        namespace = _namespace()
-        exec(compile(source, "<rotorkit linear matrices>", "exec"), namespace)
-        self._function = namespace["_entries"]
+        self._variable = variable  # per matrix: (rows, cols), values from the function in order
+        self._function = function  # list of free values -> values of the variable entries, matrix by matrix
+        which = np.concatenate([np.full(r.size, k, dtype=np.int64) for k, (r, _) in enumerate(variable)])
+        self.variable_entries = (which, np.concatenate([r for r, _ in variable]),
+                                 np.concatenate([c for _, c in variable]))
+        self.nonaffine = np.ones(which.size, dtype=bool) if nonaffine is None else np.asarray(nonaffine, dtype=bool)
+
+    def variable_values(self, **free_values):
+        """Values of the entries that depend on the free parameters (see :attr:`variable_entries`)."""
+        missing = set(self.free) - set(free_values)
+        if missing:
+            raise ParameterError(f"LinearMatrices: values of {sorted(missing)} are needed")
+        return np.array(self._function([float(free_values[name]) for name in self.free]), dtype=float)
+
+    def entries_function(self, mask):
+        """A function of the free values (in :attr:`free` order) returning the variable entries where ``mask``."""
+        mask = np.asarray(mask, dtype=bool)
+        if self._select is not None:
+            return self._select(mask)
+        function = self._function
+        return lambda free_values: np.asarray(function(list(free_values)), dtype=float)[mask]
 
     def __call__(self, **free_values):
         from scipy import sparse
 
-        missing = set(self.free) - set(free_values)
-        if missing:
-            raise ParameterError(f"LinearMatrices: values of {sorted(missing)} are needed")
-        flat = np.array(self._function([float(free_values[name]) for name in self.free]), dtype=float)
+        flat = self.variable_values(**free_values)
         out, start = [], 0
         for (rows, cols, values), (vrows, vcols) in zip(self._constant, self._variable):
             data = np.concatenate([values, flat[start:start + vrows.size]])
@@ -81,8 +115,100 @@ class LinearMatrices:
         return tuple(out)
 
 
-def _build(model, values, t, free):
-    """:class:`LinearMatrices` of ``model`` at ``values``, or None if a force is not linear in the states."""
+def _from_module(module, values, t, free):
+    """:class:`LinearMatrices` assembled from the cached element templates (:mod:`rotorkit.codegen.linear_cache`)."""
+    from ..codegen.linear_cache import template_function
+
+    if not module.LINEAR:
+        return None
+    names = module.PARAMETERS
+    p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in names]
+    free_slot = {names.index(name): k for k, name in enumerate(free) if name in names}
+    speed_like = all(name.endswith("_speed") for name in free)
+    t = float(t)
+    fixed = [[], [], []]  # per matrix: lists of (rows, cols, values) arrays
+    moving = []  # per element with free entries: (template, selection, a, free slots, selection array,
+    #              coordinates, not-affine flags)
+    for template, params, coords, _label in module.ELEMENTS:
+        matrix, lrows, lcols, _, depends, nonaffine = module.TEMPLATES[template][:6]
+        coords = np.asarray(coords, dtype=np.int64)
+        a = [p[k] for k in params]
+        slots = [(local, free_slot[k]) for local, k in enumerate(params) if k in free_slot]
+        local_free = {local for local, _ in slots}
+        chosen = [e for e, d in enumerate(depends) if local_free.intersection(d)]
+        rest = [e for e, d in enumerate(depends) if not local_free.intersection(d)]
+        matrix, lrows, lcols = (np.asarray(x, dtype=np.int64) for x in (matrix, lrows, lcols))
+        if rest:
+            vals = np.array(template_function(module, template, tuple(rest))(a, t), dtype=float)
+            rest = np.asarray(rest)
+            for which in range(3):
+                mask = matrix[rest] == which
+                fixed[which].append((coords[lrows[rest[mask]]], coords[lcols[rest[mask]]], vals[mask]))
+        if chosen:
+            moving.append((template, tuple(chosen), a, slots, np.asarray(chosen), coords,
+                           [bool(local_free.intersection(nonaffine[e])) or not speed_like for e in chosen]))
+    constant, variable, order, nonaffine = [], [], [], []
+    for which in range(3):
+        parts = fixed[which] or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
+        constant.append(tuple(np.concatenate([part[k] for part in parts]) for k in range(3)))
+        vrows, vcols = [], []
+        for m, (template, _, _, _, chosen, coords, flags) in enumerate(moving):
+            matrix, lrows, lcols = (np.asarray(x, dtype=np.int64) for x in module.TEMPLATES[template][:3])
+            mask = matrix[chosen] == which
+            vrows.append(coords[lrows[chosen[mask]]])
+            vcols.append(coords[lcols[chosen[mask]]])
+            order.extend((m, int(k)) for k in np.flatnonzero(mask))
+            nonaffine.extend(f for f, keep in zip(flags, mask) if keep)
+        variable.append((np.concatenate(vrows) if vrows else np.zeros(0, np.int64),
+                         np.concatenate(vcols) if vcols else np.zeros(0, np.int64)))
+    functions = [template_function(module, template, selection) for template, selection, *_ in moving]
+    starts = np.cumsum([0] + [len(x[1]) for x in moving])
+    gather = np.array([starts[m] + k for m, k in order], dtype=np.int64)
+
+    def function(free_values):
+        out = []
+        for f, (_, _, a, slots, *_rest) in zip(functions, moving):
+            if slots:
+                a = list(a)
+                for local, k in slots:
+                    a[local] = free_values[k]
+            out.extend(f(a, t))
+        return np.asarray(out, dtype=float)[gather] if out else np.zeros(0)
+
+    def select(mask):
+        picked = [order[i] for i in np.flatnonzero(mask)]
+        by_element = {}
+        for position, (m, k) in enumerate(picked):
+            by_element.setdefault(m, []).append((position, k))
+        parts = []
+        for m, items in by_element.items():
+            template, selection, a, slots = moving[m][:4]
+            f = template_function(module, template, tuple(selection[k] for _, k in items))
+            parts.append((f, a, slots, np.array([position for position, _ in items], dtype=np.int64)))
+
+        def entries(free_values):
+            out = np.empty(len(picked))
+            for f, a, slots, positions in parts:
+                if slots:
+                    a = list(a)
+                    for local, k in slots:
+                        a[local] = free_values[k]
+                out[positions] = f(a, t)
+            return out
+
+        return entries
+
+    return LinearMatrices(int(module.N_COORDINATES), tuple(free), constant, variable, function, nonaffine, select)
+
+
+def symbolic_linear_evaluator(model, t=0.0, values=None, free=()):
+    """:class:`LinearMatrices` of ``model`` at ``values`` straight from its derived equations, or None if not linear.
+
+    The reference for the cached matrices (:func:`linear_evaluator`): the
+    symbolic matrices with the numbers substituted, derived in this process.
+    """
+    values = model.parameters if values is None else dict(values)
+    free = tuple(free)
     import sympy as sp
 
     from ..codegen.printer import RhsPrinter
@@ -134,8 +260,9 @@ def _build(model, values, t, free):
                          np.array([k[1] for k, _ in moving], dtype=np.int64)))
         lines += [printer.doprint(v) for _, v in moving]
     body = "".join(f"        ({line}),\n" for line in lines)
-    source = f"def _entries(p):\n    return [\n{body}    ]\n"
-    return LinearMatrices(len(qs), tuple(free), constant, variable, source)
+    namespace = _namespace()
+    exec(compile(f"def _entries(p):\n    return [\n{body}    ]\n", "<rotorkit linear matrices>", "exec"), namespace)
+    return LinearMatrices(len(qs), tuple(free), constant, variable, namespace["_entries"])
 
 
 def linear_evaluator(model, t=0.0, values=None, free=()):
@@ -161,7 +288,9 @@ def linear_evaluator(model, t=0.0, values=None, free=()):
     if key not in _CACHE:
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = _build(model, values, t, free)
+        from ..codegen.linear_cache import linear_module
+
+        _CACHE[key] = _from_module(linear_module(model), values, t, free)
     return _CACHE[key]
 
 
@@ -186,6 +315,126 @@ def linear_matrices(model, t=0.0, values=None):
     """
     evaluator = linear_evaluator(model, t, values)
     return None if evaluator is None else evaluator()
+
+
+def element_forces(model, q, t=0.0, values=None, elements=None):
+    """Force each element exerts on the coordinates at rest at ``q``, from the cached linear matrices.
+
+    ``F_e(q) = F_e(0) - K_e q`` with zero velocities, ``K_e`` the element's
+    own stiffness (cross-coupled part included) and ``F_e(0)`` its force at
+    rest (gravity on its mass, a preload); disk eccentricities count as 0.
+
+    Parameters
+    ----------
+    model : rotorkit.Model
+        Rotors with constant speeds.
+    q : array_like, shape (n,)
+        Coordinates (m, rad) in ``model.coordinate_names`` order.
+    t : float
+        Time (s).
+    values : dict, optional
+        Parameter name -> value (SI), default ``model.parameters``.
+    elements : sequence of Element, optional
+        The elements wanted (default all).
+
+    Returns
+    -------
+    dict or None
+        Element label -> ``{coordinate name: force (N, N m)}`` (nonzero
+        entries only), or None if the model is not linear.
+    """
+    from ..codegen.linear_cache import linear_module, template_function
+
+    module = linear_module(model)
+    if not module.LINEAR:
+        return None
+    values = model.parameters if values is None else values
+    names = module.PARAMETERS
+    p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in names]
+    q = np.asarray(q, dtype=float)
+    coordinate_names = tuple(model.coordinate_names)
+    wanted = None if elements is None else {e.label() for e in elements}
+    out = {}
+    for template, params, coords, label in module.ELEMENTS:
+        if wanted is not None and label not in wanted:
+            continue
+        matrix, lrows, lcols = module.TEMPLATES[template][:3]
+        load_rows, load_exprs = module.TEMPLATES[template][6:8]
+        a = [p[k] for k in params]
+        force = np.zeros(len(coords))
+        if load_exprs:
+            force[list(load_rows)] += template_function(module, template, loads=True)(a, float(t))
+        stiff = [e for e, w in enumerate(matrix) if w == 2]
+        if stiff:
+            vals = template_function(module, template, tuple(stiff))(a, float(t))
+            for e, v in zip(stiff, vals):
+                force[lrows[e]] -= v * q[coords[lcols[e]]]
+        forces = {coordinate_names[c]: float(f) for c, f in zip(coords, force) if f != 0.0}
+        if forces:
+            out[label] = forces
+    return out
+
+
+def _loads_at_rest(module, p, t):
+    """Sum of every element's force at rest (N, N m), shape (n,)."""
+    from ..codegen.linear_cache import template_function
+
+    F = np.zeros(int(module.N_COORDINATES))
+    for template, params, coords, _ in module.ELEMENTS:
+        load_rows, load_exprs = module.TEMPLATES[template][6:8]
+        if load_exprs:
+            values = template_function(module, template, loads=True)([p[k] for k in params], t)
+            np.add.at(F, np.asarray(coords)[list(load_rows)], values)
+    return F
+
+
+def linear_static_deflection(model, t=0.0, values=None):
+    """Coordinates at rest under the static loads of a linear model, ``K q = F(0)``, or None if it is not linear.
+
+    Parameters
+    ----------
+    model : rotorkit.Model
+    t : float
+        Time (s) of the loads.
+    values : dict, optional
+        Parameter name -> value (SI), default ``model.parameters``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,), or None
+        ``q`` (m, rad) in ``model.coordinate_names`` order.
+
+    Raises
+    ------
+    ParameterError
+        If ``K`` is singular (a rotor without a stiffness path to a support).
+    """
+    from scipy.sparse.linalg import MatrixRankWarning, spsolve
+
+    from ..codegen.linear_cache import linear_module
+
+    module = linear_module(model)
+    if not module.LINEAR:
+        return None
+    values = model.parameters if values is None else values
+    evaluator = linear_evaluator(model, t, values)
+    _, _, K = evaluator()
+    p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in module.PARAMETERS]
+    F = _loads_at_rest(module, p, float(t))
+    if not np.any(F):
+        return np.zeros(F.size)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", MatrixRankWarning)
+        try:
+            q = spsolve(K.tocsc(), F)
+        except MatrixRankWarning:
+            q = np.full(F.size, np.nan)
+    if not np.all(np.isfinite(q)):
+        raise ParameterError(f"static deflection of {model.name!r}: the stiffness matrix is singular; a rotor may "
+                             "have no stiffness path to a support")
+    return q
 
 
 def _profile_speed(rotor, t):

@@ -16,6 +16,12 @@ speed-proportional circulatory stiffness ``H``. Build one
   matrix is the constant part of the derived ``M(q)`` (one symbolic
   derivation).
 
+A linear model from a model whose equations are linear keeps the entries
+that are not affine in the speed (tabulated, speed-dependent bearing
+coefficients) as :class:`SpeedTerms`, evaluated exactly at every speed
+where the matrices are used (modes, Campbell, harmonic solves): no
+expansion in the speed unless asked for (``speed_dependence="first-order"``).
+
 Each rotor spins at ``offset + ratio * W`` (:attr:`LinearModel.rotor_speeds`):
 both spools of a dual rotor follow the swept speed with their own ratio.
 """
@@ -31,7 +37,7 @@ import numpy as np
 from ..errors import ParameterError
 from .whirl import station_pairs
 
-__all__ = ["LinearModel", "linear_model"]
+__all__ = ["LinearModel", "SpeedTerms", "linear_model"]
 
 
 def _matrix(value, n, name, default_zero=False):
@@ -49,6 +55,61 @@ def _matrix(value, n, name, default_zero=False):
         raise ParameterError(f"{name} contains NaN or inf: expected finite entries")
     arr.setflags(write=False)
     return arr
+
+
+@dataclass(frozen=True, eq=False)
+class SpeedTerms:
+    """Entries of ``C`` and ``K`` that are not affine in the swept speed, evaluated exactly at each speed.
+
+    A linear model is ``M q'' + (C + W G + dC(W)) q' + (K + W H + dK(W)) q = F``:
+    ``dC`` and ``dK`` are zero except at a few entries (a tabulated
+    bearing coefficient, piecewise linear in the speed), where they are
+    the exact coefficient minus its affine part ``C + W G`` (``K + W H``).
+
+    Parameters
+    ----------
+    n : int
+        Number of coordinates.
+    matrix : numpy.ndarray of int, shape (m,)
+        1 for an entry of ``C``, 2 for one of ``K``.
+    rows, cols : numpy.ndarray of int, shape (m,)
+        Positions (an entry may repeat: values at one position add up).
+    values : callable
+        ``values(W)`` -> numpy.ndarray, shape (m,): the remainders (SI) at
+        the swept speed ``W`` (rad/s).
+    """
+
+    n: int
+    matrix: np.ndarray
+    rows: np.ndarray
+    cols: np.ndarray
+    values: object
+
+    def __call__(self, speed):
+        """``(dC, dK)`` at the swept speed ``speed`` (rad/s), dense, shape (n, n)."""
+        v = np.asarray(self.values(float(speed)), dtype=float)
+        out = []
+        for which in (1, 2):
+            A = np.zeros((self.n, self.n))
+            mask = self.matrix == which
+            np.add.at(A, (self.rows[mask], self.cols[mask]), v[mask])
+            out.append(A)
+        return tuple(out)
+
+    def pattern(self):
+        """Boolean (n, n): where ``dC`` or ``dK`` may be nonzero."""
+        P = np.zeros((self.n, self.n), dtype=bool)
+        P[self.rows, self.cols] = True
+        return P
+
+    def stiffness_only(self):
+        """The same terms without the damping entries (None if none are left)."""
+        keep = self.matrix == 2
+        if not keep.any():
+            return None
+        values = self.values
+        return SpeedTerms(n=self.n, matrix=self.matrix[keep], rows=self.rows[keep], cols=self.cols[keep],
+                          values=lambda w: np.asarray(values(w))[keep])
 
 
 @dataclass(frozen=True, eq=False)
@@ -74,6 +135,9 @@ class LinearModel:
         Station -> axial position (m), for plots along the shaft.
     speed_parameter : str
         Name of the swept speed (for labels), default ``"speed"``.
+    speed_terms : SpeedTerms, optional
+        Entries not affine in the speed, added exactly at each speed (see
+        :class:`SpeedTerms`); None: the matrices are affine in ``W``.
     """
 
     mass: np.ndarray
@@ -86,6 +150,7 @@ class LinearModel:
     station_rotors: dict | None = None
     station_positions: dict | None = None
     speed_parameter: str = "speed"
+    speed_terms: SpeedTerms | None = None
 
     def __post_init__(self):
         try:
@@ -128,6 +193,9 @@ class LinearModel:
         set_(self, "station_rotors", stations)
         if self.station_positions is not None:
             set_(self, "station_positions", {str(s): float(z) for s, z in dict(self.station_positions).items()})
+        if self.speed_terms is not None and not (isinstance(self.speed_terms, SpeedTerms) and self.speed_terms.n == n):
+            raise ParameterError(f"speed_terms={self.speed_terms!r} is invalid: expected a SpeedTerms of {n} "
+                                 "coordinates or None")
 
     @property
     def n(self):
@@ -157,9 +225,13 @@ class LinearModel:
         return {r: off + ratio * np.asarray(speed, dtype=float) for r, (off, ratio) in self.rotor_speeds.items()}
 
     def matrices(self, speed=0.0):
-        """``(M, C + W G, K + W H)`` at the swept speed ``W`` (rad/s)."""
+        """``(M, C + W G, K + W H)`` at the swept speed ``W`` (rad/s), plus any :attr:`speed_terms` there."""
         w = _speed(speed)
-        return self.mass, self.damping + w * self.gyroscopic, self.stiffness + w * self.circulatory
+        C, K = self.damping + w * self.gyroscopic, self.stiffness + w * self.circulatory
+        if self.speed_terms is not None:
+            dC, dK = self.speed_terms(w)
+            C, K = C + dC, K + dK
+        return self.mass, C, K
 
     def state_matrix(self, speed=0.0):
         """``A = [[0, I], [-M^-1 K, -M^-1 C]]`` at speed ``W``, shape (2n, 2n)."""
@@ -170,14 +242,26 @@ class LinearModel:
         A[:n, n:] = np.eye(n)
         A[n:, :n] = -(minv_k + w * minv_h) if w else -minv_k
         A[n:, n:] = -(minv_c + w * minv_g) if w else -minv_c
+        if self.speed_terms is not None:
+            from scipy.linalg import lu_solve
+
+            dC, dK = self.speed_terms(w)
+            A[n:, :n] -= lu_solve(self._mass_lu, dK)
+            A[n:, n:] -= lu_solve(self._mass_lu, dC)
         return A
+
+    @functools.cached_property
+    def _mass_lu(self):
+        from scipy.linalg import lu_factor
+
+        return lu_factor(self.mass)
 
     @functools.cached_property
     def _mass_normalised(self):
         """``M^-1 K, M^-1 H, M^-1 C, M^-1 G``, computed once (one LU of M)."""
-        from scipy.linalg import lu_factor, lu_solve
+        from scipy.linalg import lu_solve
 
-        lu = lu_factor(self.mass)
+        lu = self._mass_lu
         return tuple(lu_solve(lu, A) for A in (self.stiffness, self.circulatory, self.damping, self.gyroscopic))
 
     def modes(self, speed=0.0, *, left=True, n_modes=None):
@@ -190,7 +274,13 @@ class LinearModel:
         w = _speed(speed)
         if n_modes is not None and 2 * self.n > 4 * int(n_modes) + 20:
             M, C, K, G, H = self._sparse
-            return modes_from_matrices(M, C + w * G, K + w * H, self.coordinate_names, left=left,
+            C, K = C + w * G, K + w * H
+            if self.speed_terms is not None:
+                from scipy import sparse
+
+                dC, dK = self.speed_terms(w)
+                C, K = C + sparse.csc_matrix(dC), K + sparse.csc_matrix(dK)
+            return modes_from_matrices(M, C, K, self.coordinate_names, left=left,
                                        n_modes=n_modes, speed=w, station_positions=self.station_positions)
         return modes_from_state_matrix(self.state_matrix(w), self.coordinate_names, mass=self.mass, left=left,
                                        n_modes=n_modes, speed=w, station_positions=self.station_positions)
@@ -254,7 +344,7 @@ def frozen_system(system, speed_parameter=None, speed=None, t=0.0, who="linear_m
 
 
 def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t=0.0, equilibrium=True,
-                 rub_engaged=None, cage_samples=None, method="auto"):
+                 rub_engaged=None, cage_samples=None, method="auto", speed_dependence="exact"):
     """The :class:`LinearModel` of a compiled system about a swept speed.
 
     Parameters
@@ -273,6 +363,14 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
     t, equilibrium, rub_engaged, cage_samples, method
         As in :func:`rotorkit.analysis.modes.natural_frequencies` (``t`` also
         picks the speed of a speed profile).
+    speed_dependence : {"exact", "first-order"}
+        For a model whose equations are linear: ``"exact"`` (default) keeps
+        the entries that are not affine in the speed (tabulated bearing
+        coefficients) as :class:`SpeedTerms`, evaluated exactly at every
+        speed; ``"first-order"`` drops them for the expansion
+        ``C(W0) + (W - W0) dC/dW`` (``K`` likewise) about ``W0``, an
+        approximation away from ``W0``. A linearised model (contacts,
+        Hertzian bearings) is always first order in the speed.
 
     Returns
     -------
@@ -281,11 +379,13 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         their rates, the matrices are the derived symbolic ones evaluated
         numerically (:func:`~rotorkit.analysis.linear_matrices.linear_evaluator`,
         no equilibrium or Jacobian needed): ``G`` and ``H`` are their exact
-        speed derivatives for gyroscopics and constant bearings. Otherwise
-        (contacts, Hertzian bearings) the system is linearised at its static
-        equilibrium at ``W0`` and ``W0 + dW``. Either way ``G = dC/dW`` and
-        ``H = dK/dW`` at ``W0`` is a first-order model for speed-dependent
-        bearings (re-linearise far from ``W0``).
+        speed derivatives for gyroscopics and constant bearings, and
+        speed-dependent coefficients are exact at every speed
+        (:attr:`LinearModel.speed_terms`). Otherwise (contacts, Hertzian
+        bearings) the system is linearised at its static equilibrium at
+        ``W0`` and ``W0 + dW``: ``G = dC/dW`` and ``H = dK/dW`` at ``W0``, a
+        first-order model for speed-dependent bearings (re-linearise far
+        from ``W0``).
     """
     from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
     from .linearize import _check_system
@@ -299,13 +399,18 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
     dw = max(1.0, 0.01 * abs(w0)) if speed_step is None else _speed(speed_step, "speed_step")
     if dw <= 0:
         raise ParameterError(f"speed_step={speed_step!r} is invalid: expected a positive speed step (rad/s)")
+    if speed_dependence not in ("exact", "first-order"):
+        raise ParameterError(f"speed_dependence={speed_dependence!r} is unknown: expected 'exact' or 'first-order'")
     points = [dict(values, **{speed_parameter: float(w)}) for w in (w0, w0 + dw)]
     spins = [rotor_spin_speeds(model, t, v) for v in points]
     evaluator = linear_evaluator(model, t, values, free=(speed_parameter,))
+    terms = None
     if evaluator is not None:
         (M, C0, K0), (_, C1, K1) = ([A.toarray() for A in evaluator(**{speed_parameter: w})] for w in (w0, w0 + dw))
         G, H = (C1 - C0) / dw, (K1 - K0) / dw
         C, K = C0 - w0 * G, K0 - w0 * H
+        if speed_dependence == "exact":
+            terms = _speed_terms(evaluator, speed_parameter, w0, dw)
     else:
         source = getattr(system, "model", system)
         target = system if model is source and hasattr(system, "rhs") else model.compile(
@@ -332,5 +437,26 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         mass=M, damping=C, stiffness=K, gyroscopic=G, circulatory=H, coordinate_names=names,
         rotor_speeds=rotor_speeds,
         station_rotors={str(s): model.rotor_of(s).name for s in model.stations if str(s) in bending},
-        station_positions=station_positions(model), speed_parameter=speed_parameter,
+        station_positions=station_positions(model), speed_parameter=speed_parameter, speed_terms=terms,
     )
+
+
+def _speed_terms(evaluator, speed_parameter, w0, dw):
+    """:class:`SpeedTerms` of the entries of ``evaluator`` not affine in the speed, or None if there are none.
+
+    Each such entry ``v(W)`` went into ``C + W G`` (``K + W H``) as
+    ``v(W0) + (W - W0) (v(W0 + dW) - v(W0)) / dW``; the remainder is ``v(W)``
+    minus that, so that the sum is ``v(W)`` exactly.
+    """
+    mask = evaluator.nonaffine & (evaluator.variable_entries[0] > 0)
+    if not mask.any():
+        return None
+    which, rows, cols = (a[mask] for a in evaluator.variable_entries)
+    values = evaluator.entries_function(mask)
+    v0 = values([w0])
+    slope = (values([w0 + dw]) - v0) / dw
+
+    def remainder(w):
+        return values([w]) - v0 - (w - w0) * slope
+
+    return SpeedTerms(n=evaluator.n, matrix=which, rows=rows, cols=cols, values=remainder)

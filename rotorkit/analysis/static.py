@@ -133,16 +133,55 @@ def _evaluate(expr):
     return float(eval(code, {"__builtins__": {"max": max, "min": min, "abs": abs}}, vars(math)))
 
 
+def _symbolic_reactions(system, model, holding, q, t):
+    """Element label -> force on the rotor at rest at ``q``, from each element's energy terms (any model)."""
+    import sympy as sp
+
+    from ..model import Context
+    from ..symbolic.lagrange import Symbols
+
+    names = tuple(system.coordinate_names)
+    symbols = Symbols(model)
+    ctx = Context(model, symbols)
+    values = {symbols.parameters[k]: sp.Float(v) for k, v in system.parameters.items()}
+    values.update({sym: sp.Float(0) for name, sym in symbols.parameters.items() if name.endswith("_eccentricity")})
+    values.update({symbols.coordinates[n]: sp.Float(float(v)) for n, v in zip(names, q)})
+    values.update({s: sp.Float(0) for s in symbols.speeds.values()})
+    values[symbols.t] = sp.Float(float(t))
+    reactions = {}
+    for element in holding:
+        terms = element.contribute(ctx.bind(element))
+        V = sp.sympify(terms.potential)
+        forces = {}
+        for name in names:
+            sym = symbols.coordinates[name]
+            expr = -sp.diff(V, sym) if V != 0 and sym in V.free_symbols else sp.S.Zero
+            expr += terms.loads.get(sym, sp.S.Zero)
+            if expr != 0:
+                value = _evaluate(sp.sympify(expr).xreplace(values))
+                if value != 0.0:
+                    forces[name] = value
+        if forces:
+            reactions[element.label()] = forces
+    return reactions
+
+
 def static_deflection(system, t=0.0, **equilibrium):
     """Static deflection under the loads at ``t`` and the reactions of the supports.
 
     Parameters
     ----------
-    system : rotorkit.System
+    system : rotorkit.System or rotorkit.Model
+        A model whose equations are linear (beams, disks, linear bearings)
+        is solved directly, ``K q = F``, from its cached matrices
+        (:func:`~rotorkit.analysis.linear_matrices.linear_static_deflection`:
+        nothing compiled); any other model is compiled first.
     t : float, str or pint.Quantity
         Time (s) of the load (a manoeuvre's load at that instant; gravity).
     **equilibrium
-        Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`.
+        Passed to :func:`~rotorkit.analysis.linearize.static_equilibrium`
+        (a compiled system, or a model that is not linear or is given
+        any of these options).
 
     Returns
     -------
@@ -158,42 +197,27 @@ def static_deflection(system, t=0.0, **equilibrium):
     >>> round(s.deflection["y1"] * 1e6, 3), round(s.reaction("support1", 1)[1], 6)   # -m g / k, m g
     (-981.0, 19.62)
     """
-    import sympy as sp
-
-    from ..model import Context
-    from ..symbolic.lagrange import Symbols
-
     from ..units import to_si
+    from .linear_matrices import element_forces, linear_static_deflection
 
-    _check_system(system, "static_deflection")
     t = to_si(t, "s", "t")
-    q = static_equilibrium(system, t, **equilibrium)
-    names = tuple(system.coordinate_names)
-    model = system.model
-    symbols = Symbols(model)
-    ctx = Context(model, symbols)
-    values = {symbols.parameters[k]: sp.Float(v) for k, v in system.parameters.items()}
-    values.update({sym: sp.Float(0) for name, sym in symbols.parameters.items() if name.endswith("_eccentricity")})
-    values.update({symbols.coordinates[n]: sp.Float(float(v)) for n, v in zip(names, q)})
-    values.update({s: sp.Float(0) for s in symbols.speeds.values()})
-    values[symbols.t] = sp.Float(float(t))
-    reactions = {}
-    for element in model.elements:
-        if not holds_rotor(element, model):
-            continue
-        terms = element.contribute(ctx.bind(element))
-        V = sp.sympify(terms.potential)
-        forces = {}
-        for name in names:
-            sym = symbols.coordinates[name]
-            expr = -sp.diff(V, sym) if V != 0 and sym in V.free_symbols else sp.S.Zero
-            expr += terms.loads.get(sym, sp.S.Zero)
-            if expr != 0:
-                value = _evaluate(sp.sympify(expr).xreplace(values))
-                if value != 0.0:
-                    forces[name] = value
-        if forces:
-            reactions[element.label()] = forces
+    q = None
+    if not hasattr(system, "rhs") and hasattr(system, "compile") and hasattr(system, "elements"):  # a Model
+        t = float(t)
+        q = None if equilibrium else linear_static_deflection(system, t)
+        if q is None:
+            system = system.compile()
+        else:
+            model, parameters, names = system, system.parameters, tuple(system.coordinate_names)
+    if q is None:
+        _check_system(system, "static_deflection")
+        q = static_equilibrium(system, t, **equilibrium)
+        model, parameters, names = system.model, system.parameters, tuple(system.coordinate_names)
+
+    holding = [e for e in model.elements if holds_rotor(e, model)]
+    reactions = element_forces(model, q, t, parameters, holding)  # linear model: the cached matrices
+    if reactions is None:
+        reactions = _symbolic_reactions(system, model, holding, q, t)
     from .linear_matrices import station_positions
 
     return StaticDeflection(deflection=dict(zip(names, (float(v) for v in q))), reactions=reactions, t=float(t),

@@ -291,7 +291,9 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
     spins = model.spin_speeds(W)
     from .harmonic import BANDED_FRACTION, band_structure
 
-    _, lo, up = band_structure(model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory)
+    extra = () if model.speed_terms is None else (model.speed_terms.pattern(),)
+    _, lo, up = band_structure(model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory,
+                               *extra)
     used = method if method != "auto" else ("banded" if lo + up + 1 <= BANDED_FRACTION * n else "dense")
     components, frequencies = {}, {}
     for rotor, F in by_rotor.items():

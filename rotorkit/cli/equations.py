@@ -11,10 +11,11 @@ def register(sub):
 
 
 def main(args):
+    from ..codegen.linear_cache import equations_text
+
     _, model, _ = load_preset(args)
-    eom = model.equations()
-    if args.latex:
-        print(eom.latex())
+    if args.latex:  # the printed equations are cached per structure: a warm cache derives nothing
+        print(equations_text(model, latex=True))
     else:
-        print(f"{model!r}\n\n{model.parameter_table()}\n\n{eom}")
+        print(f"{model!r}\n\n{model.parameter_table()}\n\n{equations_text(model)}")
     return 0

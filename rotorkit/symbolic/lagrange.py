@@ -21,7 +21,7 @@ import sympy as sp
 
 from ..errors import TopologyError
 
-__all__ = ["EquationsOfMotion", "derive", "Symbols"]
+__all__ = ["EquationsOfMotion", "derive", "element_matrices", "Symbols"]
 
 _CACHE = {}
 
@@ -303,7 +303,7 @@ class _Templates:
 
 
 def _add_quadratic(form, q_index, M, K, C, force, totals, t=None):
-    """Add a :class:`~rotorkit.elements.base.QuadraticForm`'s matrices (and energies) in place."""
+    """Add a :class:`~rotorkit.elements.base.QuadraticForm`'s matrices (and energies, unless ``totals`` is None)."""
     idx = [q_index[q] for q in form.coordinates]
     m = len(idx)
     for A, target in ((form.mass, M), (form.stiffness, K), (form.damping, C)):
@@ -321,6 +321,8 @@ def _add_quadratic(form, q_index, M, K, C, force, totals, t=None):
                 row += sp.Add(*[sp.diff(N[a, b], t) * form.coordinates[b] for b in range(m) if N[a, b] != 0])
             if row != 0:
                 force[idx[a]] = force.get(idx[a], sp.S.Zero) - row
+    if totals is None:  # matrices only (element_matrices): the energies are not needed
+        return
     for name, value in (("kinetic", form.kinetic()), ("potential", form.potential()),
                         ("dissipation", form.dissipation())):
         if value != 0:
@@ -407,6 +409,57 @@ def derive(model):
                               f"{len(model.elements)} elements)"):
             _CACHE[key] = _derive(model)
     return _CACHE[key]
+
+
+def element_matrices(model):
+    """Each element's own contribution, as :func:`derive` assembles it, without assembling the model.
+
+    Yields, per element of ``model`` in order, ``(element, p, M, K, C, F)``:
+    ``p`` maps the element's fields to their parameter symbols; ``M``, ``K``,
+    ``C`` are ``{(i, j): expression}`` (coordinate indices; the mass filled
+    on both sides of the diagonal); ``F`` is ``{i: expression}``, the
+    element's generalised forces beyond ``-K q - C q'`` (loads, gyroscopic
+    and other velocity terms, nonlinear forces). Summed over the elements
+    these are the matrices and forces of ``derive(model)``. Identical
+    elements (the beam segments of a shaft) share one derivation.
+
+    Returns
+    -------
+    tuple
+        ``(symbols, iterator)``: the model's :class:`Symbols` and the
+        per-element iterator.
+    """
+    from ..model import Context
+
+    symbols = Symbols(model)
+    qs = tuple(symbols.coordinates.values())
+    us = tuple(symbols.speeds.values())
+    t = symbols.t
+    q_index = {q: i for i, q in enumerate(qs)}
+    templates = _Templates(qs, us, t)
+    ctx = Context(model, symbols)
+
+    def contributions():
+        for element in model.elements:
+            bound = ctx.bind(element)
+            terms = element.contribute(bound)
+            mass, force, Ke, Ce = templates.contribution(terms, bound.p)
+            M, K, C = {}, {}, {}
+            force = dict(force)
+            for form in terms.quadratic:
+                _add_quadratic(form, q_index, M, K, C, force, None, t)
+            for (i, j), mij in mass.items():
+                _add(M, (i, j), mij)
+                if i != j:
+                    _add(M, (j, i), mij)
+            for (i, j), v in Ke.items():
+                _add(K, (i, j), v)
+            for (i, j), v in Ce.items():
+                _add(C, (i, j), v)
+            yield (element, bound.p, *({k: sp.Add(*v) for k, v in A.items()} for A in (M, K, C)),
+                   {i: v for i, v in force.items() if v != 0})
+
+    return symbols, contributions()
 
 
 def _derive(model):
