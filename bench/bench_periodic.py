@@ -282,8 +282,12 @@ def section_doubling(out):
                        rk.Maneuver.steady(gravity=9.81)], name="pdrub").compile(backend="c")
     branch = periodic_response(system, speeds=(2990.0, 2900.0), harmonics=10, max_step=0.02)
     doubled = period_doubled_branch(system, branch, stop=2915.0)
-    speeds = np.arange(2915.0, 2990.1, 5.0)
-    _, down = _marked_runs(system, speeds, 3000)
+    speeds = np.arange(2990.0, 2914.9, -2.5)  # a run-down from the synchronous orbit at 2990 rad/s
+    down, y = [], None
+    for w in speeds:
+        r, y = settled_radius(system, w, y0=y, periods=3000)
+        down.append(r)
+    down = np.array(down)
     fig, ax = plt.subplots(figsize=(7, 4.5))
     branch.plot_response(1, ax=ax, label="synchronous (nu = 1)")
     doubled.plot_response(1, ax=ax, color="C3", label="period doubled (nu = 2)")
