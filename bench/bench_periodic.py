@@ -302,7 +302,8 @@ def section_doubling(out):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sections", nargs="+", default=["a", "b", "c"], choices=("a", "b", "c", "figure", "sfd", "doubling"))
+    parser.add_argument("--sections", nargs="+", default=["a", "b", "c"],
+                        choices=("a", "b", "c", "figure", "sfd", "doubling"))
     parser.add_argument("--nodes", type=int, default=25, help="beam nodes of the section b rotor (4 coordinates each)")
     parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
     parser.add_argument("--runs", type=int, default=10, help="time-integrated speeds timed in section a")

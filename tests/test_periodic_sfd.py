@@ -70,7 +70,8 @@ def fold_speeds():
 
     upper = minimize_scalar(lambda e: -speed_of(e, max), bounds=(0.78, 0.83), method="bounded",
                             options={"xatol": 1e-9}).fun
-    lower = minimize_scalar(lambda e: speed_of(e, min), bounds=(0.55, 0.75), method="bounded", options={"xatol": 1e-9}).fun
+    lower = minimize_scalar(lambda e: speed_of(e, min), bounds=(0.55, 0.75), method="bounded",
+                            options={"xatol": 1e-9}).fun
     return -upper, lower
 
 

@@ -364,7 +364,9 @@ def period_doubled_branch(model_or_system, branch, *, stop=None, bifurcation=Non
     Returns
     -------
     rotorkit.periodic.branch.Branch
-        With ``subharmonic == 2 * branch.subharmonic``.
+        With ``subharmonic == 2 * branch.subharmonic`` and ``2 * branch.harmonics`` harmonics; its first
+        point lies next to the doubling (one predictor step along the critical mode). The switch and the
+        doubled branch use the full (not condensed) harmonic balance.
 
     Raises
     ------
