@@ -28,6 +28,13 @@ Sections (each prints what it measured in this run, and the load average):
             run-up and a run-down in time (each speed from the previous
             speed's final state, an integer number of periods, the settled
             max radius) marked on it.
+``sfd``     docs/periodic.md's squeeze-film figure: the bi-stable branch of
+            the SFD-supported Jeffcott rotor of tests/test_periodic_sfd.py
+            with a run-up and a run-down in time marked on it.
+``doubling`` docs/periodic.md's period-doubling figure: the rubbing rotor of
+            tests/test_periodic_doubling.py, its synchronous branch, the
+            period-doubled branch switched onto at the doubling, and settled
+            time runs (max radius).
 
 """
 
@@ -214,9 +221,89 @@ def section_figure(out):
           f"{', '.join(f'{b.kind} {b.parameter:.2f}' for b in branch.bifurcations)}")
 
 
+def _marked_runs(system, speeds, periods):
+    """Settled max radii (m) of a run-up and a run-down over ``speeds`` (each from the previous final state)."""
+    up, y = [], None
+    for w in speeds:
+        r, y = settled_radius(system, w, y0=y, periods=periods)
+        up.append(r)
+    down = []
+    for w in speeds[::-1]:
+        r, y = settled_radius(system, w, y0=y, periods=periods)
+        down.append(r)
+    return np.array(up), np.array(down[::-1])
+
+
+def section_sfd(out):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import rotorkit as rk
+    from rotorkit.analysis.periodic import periodic_response
+
+    c, critical = 2e-4, np.sqrt(1e5)
+    film = rk.SqueezeFilmDamper(station=1, centring_stiffness=1e6, radius=0.05, length=0.015, clearance=c,
+                                viscosity=0.004)
+    system = rk.Model([rk.Rotor(name="R", stations=(1,), speed=critical),
+                       rk.Disk(station=1, mass=10.0, radius=0.1, eccentricity=0.15 * c, torsion=False), film],
+                      name="sfd_jeffcott").compile(backend="c")
+    branch = periodic_response(system, speeds=(0.9 * critical, 1.5 * critical), harmonics=3)
+    speeds = critical * np.arange(1.0, 1.401, 0.025)
+    up, down = _marked_runs(system, speeds, 500)
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    branch.plot_response(1, ax=ax, label="harmonic balance (dashed: unstable)")
+    ax.plot(speeds, 1e3 * up, "^", color="C1", label="time, run-up")
+    ax.plot(speeds, 1e3 * down, "v", color="C2", mfc="none", label="time, run-down")
+    ax.axhline(1e3 * c, color="0.6", lw=0.8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)  # beside the data
+    fig.tight_layout()
+    out.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out / "sfd_bistable_branch.png", dpi=110)
+    print(f"figure: {out / 'sfd_bistable_branch.png'}; "
+          f"{', '.join(f'{b.kind} {b.parameter:.2f}' for b in branch.bifurcations)}")
+
+
+def section_doubling(out):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import rotorkit as rk
+    from rotorkit.analysis.periodic import period_doubled_branch, periodic_response
+    from rotorkit.elements import LinearBearing
+
+    system = rk.Model([rk.Rotor(name="R", stations=(1,), speed=2990.0),
+                       rk.Disk(station=1, mass=2.0, radius=0.1, eccentricity=2e-5, torsion=False),
+                       LinearBearing(station=1, kxx=1.2e6, kyy=1.0e6, cxx=40.0, cyy=40.0),
+                       rk.RubStator(station=1, clearance=1e-5, contact_stiffness=4e6, friction_coefficient=0.0),
+                       rk.Maneuver.steady(gravity=9.81)], name="pdrub").compile(backend="c")
+    branch = periodic_response(system, speeds=(2990.0, 2900.0), harmonics=10, max_step=0.02)
+    doubled = period_doubled_branch(system, branch, stop=2915.0)
+    speeds = np.arange(2990.0, 2914.9, -2.5)  # a run-down from the synchronous orbit at 2990 rad/s
+    down, y = [], None
+    for w in speeds:
+        r, y = settled_radius(system, w, y0=y, periods=3000)
+        down.append(r)
+    down = np.array(down)
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    branch.plot_response(1, ax=ax, label="synchronous (nu = 1)")
+    doubled.plot_response(1, ax=ax, color="C3", label="period doubled (nu = 2)")
+    ax.plot(speeds, 1e3 * down, "v", color="C2", mfc="none", label="time, run-down")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)  # beside the data
+    fig.tight_layout()
+    out.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out / "period_doubling_branch.png", dpi=110)
+    print(f"figure: {out / 'period_doubling_branch.png'}; "
+          f"{', '.join(f'{b.kind} {b.parameter:.2f}' for b in branch.bifurcations)}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sections", nargs="+", default=["a", "b", "c"], choices=("a", "b", "c", "figure"))
+    parser.add_argument("--sections", nargs="+", default=["a", "b", "c"],
+                        choices=("a", "b", "c", "figure", "sfd", "doubling"))
     parser.add_argument("--nodes", type=int, default=25, help="beam nodes of the section b rotor (4 coordinates each)")
     parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
     parser.add_argument("--runs", type=int, default=10, help="time-integrated speeds timed in section a")
@@ -234,6 +321,10 @@ def main():
         section_c(args.repeat, args.coordinates, args.harmonics)
     if "figure" in args.sections:
         section_figure(Path(args.out))
+    if "sfd" in args.sections:
+        section_sfd(Path(args.out))
+    if "doubling" in args.sections:
+        section_doubling(Path(args.out))
 
 
 if __name__ == "__main__":

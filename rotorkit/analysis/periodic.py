@@ -30,7 +30,8 @@ import numpy as np
 from ..errors import ParameterError
 from ..periodic.errors import ConvergenceError, NoOscillatingInput
 
-__all__ = ["periodic_response", "continuation", "periodic_solution", "ConvergenceError", "NoOscillatingInput"]
+__all__ = ["periodic_response", "continuation", "periodic_solution", "period_doubled_branch", "ConvergenceError",
+           "NoOscillatingInput"]
 
 #: truncation-error grid: this many times the AFT samples
 ERROR_GRID_FACTOR = 4
@@ -332,6 +333,94 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
     points = BranchPoints(parameter=[lam], coefficients=[z], tangents=[np.zeros(hb.size + 1)], residuals=[0.0],
                           reason="single solution")
     return _branch(problem, points, stability)
+
+
+def period_doubled_branch(model_or_system, branch, *, stop=None, bifurcation=None, step=0.05, backend="auto",
+                          **options):
+    """Switch at a period doubling of ``branch`` onto the period-doubled branch and follow it.
+
+    The synchronous solution at the doubling is recomputed there; the critical Floquet mode (multiplier
+    ``-1``, from the monodromy matrix and the variational equations over one period) gives the direction in
+    which the doubled branch leaves it in the harmonic balance of half the base frequency
+    (:mod:`rotorkit.periodic.switching`); one predictor-corrector step along it finds the first doubled point,
+    from which :func:`continuation` follows the branch with sub-harmonic order ``2 nu`` and ``2 H`` harmonics.
+
+    Parameters
+    ----------
+    model_or_system : rotorkit.Model or rotorkit.System
+        The model of ``branch``.
+    branch : rotorkit.periodic.branch.Branch
+        A branch with a ``"period doubling"`` among its bifurcations (stability not ``"none"``).
+    stop : float, optional
+        Where the doubled branch ends (SI or a quantity; default: the end of ``branch``'s range on the side
+        where the doubled branch leaves the doubling). It starts next to the doubling.
+    bifurcation : rotorkit.periodic.branch.Bifurcation, optional
+        Which period doubling (default the first).
+    step : float
+        Predictor length, in amplitudes over the largest amplitude of the synchronous solution.
+    **options
+        As for :func:`continuation` (``stability``, ``max_points``, ``tol``, ...).
+
+    Returns
+    -------
+    rotorkit.periodic.branch.Branch
+        With ``subharmonic == 2 * branch.subharmonic`` and ``2 * branch.harmonics`` harmonics; its first
+        point lies next to the doubling (one predictor step along the critical mode). The switch and the
+        doubled branch use the full (not condensed) harmonic balance.
+
+    Raises
+    ------
+    ParameterError
+        If ``branch`` has no period doubling.
+    ConvergenceError
+        If no doubled solution is found next to the doubling.
+    """
+    from ..periodic.continuation import ContinuationProblem
+    from ..periodic.hb import DEFAULT_TOLERANCE, HarmonicBalance, newton
+    from ..periodic.switching import critical_direction, embed, first_doubled_point
+
+    system = _system(model_or_system, backend)
+    if bifurcation is None:
+        found = [b for b in branch.bifurcations if b.kind == "period doubling"]
+        if not found:
+            raise ParameterError("branch has no period doubling among its bifurcations "
+                                 f"{[b.kind for b in branch.bifurcations]}: expected a branch computed with "
+                                 "stability='hill' or 'monodromy' that crosses one")
+        bifurcation = found[0]
+    elif bifurcation.kind != "period doubling":
+        raise ParameterError(f"bifurcation is a {bifurcation.kind!r}: expected a 'period doubling'")
+    parameter, H, nu = branch.parameter_name, branch.harmonics, branch.subharmonic
+    tol = options.get("tol") or DEFAULT_TOLERANCE
+    hb1 = HarmonicBalance(system, speed_parameter=branch.speed_parameter, harmonics=H, subharmonic=nu,
+                          samples=branch.samples)
+    problem1 = ContinuationProblem(hb1, parameter)
+    lam = float(bifurcation.parameter)
+    frame1 = problem1.frame(lam)
+    i = bifurcation.index
+    w = (lam - branch.parameter[i]) / (branch.parameter[i + 1] - branch.parameter[i])
+    guess = ((1 - w) * branch.coefficients[i] + w * branch.coefficients[i + 1]).ravel()
+    z1 = newton(lambda z, jac: hb1.residual(z, frame1, jacobian=jac), guess, tol=tol, scale=frame1.scale,
+                max_iterations=50, what=f"the synchronous solution at the period doubling {parameter}={lam:g}")[0]
+    samples, multiplier = critical_direction(hb1, z1, frame1)
+    hb2 = HarmonicBalance(system, speed_parameter=branch.speed_parameter, harmonics=2 * H, subharmonic=2 * nu,
+                          samples=2 * hb1.samples)
+    problem2 = ContinuationProblem(hb2, parameter)
+    z_scale = float(np.max(np.abs(z1))) or 1.0
+    l_scale = float(np.ptp(branch.parameter)) or abs(lam) or 1.0
+    step = _positive(step, "step")
+    z2, lam2 = first_doubled_point(problem2, embed(z1, hb1.n, H), lam, samples, z_scale=z_scale, l_scale=l_scale,
+                                   step=step, tol=tol)
+    # the side the doubled branch leaves on: where a point twice as far from the old branch lies
+    lam3 = first_doubled_point(problem2, embed(z1, hb1.n, H), lam, samples, z_scale=z_scale, l_scale=l_scale,
+                               step=2 * step, tol=tol)[1]
+    if stop is None:
+        stop = float(np.max(branch.parameter) if lam3 >= lam2 else np.min(branch.parameter))
+    else:
+        stop = _range(system, parameter, (lam2, stop), "stop")[1]
+    options.setdefault("amplitude_scale", z_scale)
+    return continuation(system, parameter, (lam2, stop), speed_parameter=branch.speed_parameter, harmonics=2 * H,
+                        subharmonic=2 * nu, samples=2 * hb1.samples, start=z2.reshape(4 * H + 1, hb1.n),
+                        condense=False, **options)
 
 
 def _grazing_point(problem, lam, Z, i):

@@ -52,17 +52,20 @@ def _batch_function():
     return _BATCH[0][1] if _BATCH[0] else None
 
 
-def _c_loop(function, prepared, times, Y, width):
+def _c_loop(function, address, prepared, times, Y, width):
     Y = np.ascontiguousarray(Y, dtype=float)
     rows = Y.shape[0]
-    out = np.zeros((rows, width))
-    times = np.ascontiguousarray(np.broadcast_to(times, (rows,)), dtype=float)
+    if np.ndim(times) == 0:
+        times = np.full(rows, float(times))
+    else:
+        times = np.ascontiguousarray(np.broadcast_to(times, (rows,)), dtype=float)
     batch = _batch_function()
     if batch is not None:
-        address = ctypes.cast(function, ctypes.c_void_p).value
+        out = np.empty((rows, width))  # the C loop zeroes each row first
         batch(address, rows, times.ctypes.data, Y.ctypes.data, Y.shape[1], prepared.ctypes.data, out.ctypes.data,
               width)
         return out
+    out = np.zeros((rows, width))
     ry, ro = Y.shape[1] * 8, width * 8
     y0, o0, p = Y.ctypes.data, out.ctypes.data, prepared.ctypes.data
     for j, t in enumerate(times.tolist()):
@@ -90,6 +93,7 @@ class Evaluator:
             self._module = module = jacobian_module(system.model, "unrolled")  # c covers unrolled code only
             functions = c_functions(module)
             self._functions = {name: _C_SIGNATURE(f.address) for name, f in functions.items()}
+            self._addresses = {name: ctypes.cast(f, ctypes.c_void_p).value for name, f in self._functions.items()}
             self._window = np.array(system.prepared_parameters[-2:], dtype=float)
 
     def point(self, values):
@@ -109,7 +113,7 @@ class Evaluator:
     def rhs(self, point, times, Y):
         """``dy/dt`` at each row of ``Y`` (m, 2n) and time in ``times`` (s): shape (m, 2n)."""
         if self.fast:
-            return _c_loop(self._functions["rhs"], point, times, Y, self.n_states)
+            return _c_loop(self._functions["rhs"], self._addresses["rhs"], point, times, Y, self.n_states)
         times = np.broadcast_to(times, (len(Y),))
         return np.array([point.rhs(t, y) for t, y in zip(times.tolist(), Y)])
 
@@ -117,7 +121,7 @@ class Evaluator:
         """The analytic ``d(dy/dt)/dy`` at each row: shape (m, 2n, 2n)."""
         m = self.n_states
         if self.fast:
-            return _c_loop(self._functions["jac"], point, times, Y, m * m).reshape(-1, m, m)
+            return _c_loop(self._functions["jac"], self._addresses["jac"], point, times, Y, m * m).reshape(-1, m, m)
         times = np.broadcast_to(times, (len(Y),))
         return np.array([point.jacobian(t, y) for t, y in zip(times.tolist(), Y)])
 
@@ -126,6 +130,7 @@ class Evaluator:
         if not self.n_switches:
             return np.zeros((len(Y), 0))
         if self.fast:
-            return _c_loop(self._functions["switches"], point, times, Y, self.n_switches)
+            return _c_loop(self._functions["switches"], self._addresses["switches"], point, times, Y,
+                           self.n_switches)
         times = np.broadcast_to(times, (len(Y),))
         return np.array([point.switch_values(t, y) for t, y in zip(times.tolist(), Y)])
