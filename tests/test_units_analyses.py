@@ -159,3 +159,22 @@ WRONG = [
 def test_wrong_dimension_raises_unit_error(call, match, small_system):
     with pytest.raises(UnitError, match=match):
         call(small_system)
+
+
+def test_linear_model_speeds_take_units():
+    """LinearModel.modes/matrices/state_matrix read '3000 rpm' and pint quantities as rad/s; a length is refused."""
+    import numpy as np
+
+    import rotorkit as rk
+    from rotorkit.errors import UnitError
+    from rotorkit.units import registry
+
+    lin = rk.LinearModel(mass=np.eye(2), damping=0.1 * np.eye(2), stiffness=np.diag([4.0, 9.0]),
+                         gyroscopic=np.array([[0.0, 1.0], [-1.0, 0.0]]), coordinate_names=("x1", "y1"))
+    w = 3000 * np.pi / 30
+    expected = lin.state_matrix(w)
+    assert np.allclose(lin.state_matrix("3000 rpm"), expected, rtol=1e-14, atol=0)
+    assert np.allclose(lin.state_matrix(registry().Quantity(3000.0, "rpm")), expected, rtol=1e-14, atol=0)
+    assert np.allclose(lin.modes("3000 rpm").frequencies, lin.modes(w).frequencies, rtol=1e-12)
+    with pytest.raises(UnitError):
+        lin.matrices("3000 m")

@@ -295,8 +295,14 @@ class LinearModel:
 
 
 def _speed(speed, name="speed"):
+    """A swept speed in rad/s from a float (rad/s), a pint quantity or a string such as ``"3000 rpm"``."""
+    if isinstance(speed, str) or hasattr(speed, "units"):
+        from ..units import to_si
+
+        speed = to_si(speed, "rad/s", name)
     if isinstance(speed, bool) or not isinstance(speed, numbers.Real) or not np.isfinite(speed):
-        raise ParameterError(f"{name}={speed!r} is invalid: expected a finite speed (rad/s)")
+        raise ParameterError(f"{name}={speed!r} is invalid: expected a finite speed (rad/s, a pint quantity or a "
+                             "string such as '3000 rpm')")
     return float(speed)
 
 
