@@ -125,6 +125,16 @@ _NUMBER_UNIT = re.compile(r"^\s*([+-]?(?:inf|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1
                           r"((?![eE][+-]?\d)(?:1\s*/\s*)?[A-Za-zµ°Ω][A-Za-zµ°Ω0-9_ /*^.\-]*)?\s*$")
 
 
+def _fast_quantity(text):
+    """Is ``text`` a number with a unit of the table pint is not needed for (rotorkit.units.fast_si)?"""
+    from .units import fast_si
+
+    try:
+        return fast_si(text, "m") is not None  # "m": any unit of the table has a dimension, or raises
+    except RotorkitError:
+        return True  # a known unit of another dimension: still read without pint, by the element
+
+
 def parse_quantity(text, name):
     """``"<number> [unit]"`` -> float or pint quantity, through the library's bounded grammar.
 
@@ -388,6 +398,8 @@ def _field_value(raw, where, has_unit, ctx, types):
         if isinstance(raw, list):
             return tuple(_field_value(v, f"{where}[{i}]", True, ctx, types) for i, v in enumerate(raw))
         if isinstance(raw, str):
+            if _fast_quantity(raw):
+                return raw  # the element converts it to its own unit without pint (rotorkit.units.fast_si)
             try:
                 return parse_quantity(raw, where)
             except RotorkitError as err:

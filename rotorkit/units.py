@@ -11,7 +11,7 @@ from fractions import Fraction
 
 from .errors import ParameterError, UnitError
 
-__all__ = ["to_si", "to_si_array", "registry", "parse_quantity", "parse_unit", "display_factor", "SPEED_UNITS"]
+__all__ = ["to_si", "fast_si", "to_si_array", "registry", "parse_quantity", "parse_unit", "display_factor", "SPEED_UNITS"]
 
 _REGISTRY = None
 
@@ -179,6 +179,69 @@ def parse_unit(text, name="unit"):
     return unit
 
 
+#: units read without pint (its import and registry cost about 1.5 s, the whole load of a model file):
+#: name -> (factor to SI, exponents of (m, kg, s)); angles are dimensionless, as in pint. Anything else
+#: (Hz, which is ambiguous for an angular quantity, imperial units, ...) goes through pint.
+_FAST_UNITS = {
+    **{n: (f, (1, 0, 0)) for n, f in (("m", 1.0), ("mm", 1e-3), ("cm", 1e-2), ("um", 1e-6), ("µm", 1e-6),
+                                       ("μm", 1e-6))},
+    **{n: (f, (0, 1, 0)) for n, f in (("kg", 1.0), ("g", 1e-3))},
+    **{n: (f, (0, 0, 1)) for n, f in (("s", 1.0), ("ms", 1e-3), ("min", 60.0))},
+    **{n: (f, (1, 1, -2)) for n, f in (("N", 1.0), ("kN", 1e3), ("MN", 1e6))},
+    **{n: (f, (-1, 1, -2)) for n, f in (("Pa", 1.0), ("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9))},
+    "rad": (1.0, (0, 0, 0)),
+    "deg": (math.pi / 180.0, (0, 0, 0)),
+    "rpm": (2.0 * math.pi / 60.0, (0, 0, -1)),
+}
+
+
+def _fast_unit(text):
+    """(factor to SI, dimension) of a unit expression of the names in ``_FAST_UNITS``, or None."""
+    if not text:
+        return 1.0, (0, 0, 0)
+    try:
+        parser = _UnitParser(_tokens(text, "unit"), "unit")
+        powers = parser.expression(0)
+    except UnitError:
+        return None
+    if parser.pos != len(parser.tokens):
+        return None
+    factor, dims = 1.0, [0, 0, 0]
+    for unit_name, power in powers.items():
+        if unit_name not in _FAST_UNITS or power.denominator != 1:
+            return None
+        f, d = _FAST_UNITS[unit_name]
+        factor *= f ** int(power)
+        dims = [a + int(power) * b for a, b in zip(dims, d)]
+    return factor, tuple(dims)
+
+
+def fast_si(text, unit):
+    """``text`` (a number and a unit of the common engineering units) in the SI ``unit``, without pint.
+
+    Returns None when the text or ``unit`` holds a unit outside the table (the caller then uses pint),
+    and raises :class:`UnitError` for a known unit of the wrong dimension. The factors are pint's.
+
+    >>> fast_si("3000 rpm", "rad/s"), fast_si("60 mm", "m"), fast_si("2 MN/m", "N/m"), fast_si("5 furlong", "m")
+    (314.1592653589793, 0.06, 2000000.0, None)
+    """
+    if not isinstance(text, str) or len(text) > MAX_TEXT:
+        return None
+    stripped = text.strip()
+    match = _NUMBER.match(stripped)
+    if not match:
+        return None
+    rest = stripped[match.end():].strip()
+    if not rest:
+        return float(match.group(0))  # a plain number is already in ``unit``, as in to_si
+    given, expected = _fast_unit(rest), _fast_unit(unit)
+    if given is None or expected is None:
+        return None
+    if given[1] != expected[1]:
+        raise UnitError(f"{text!r} has the wrong unit: expected a quantity in {unit or 'dimensionless'}")
+    return float(match.group(0)) * given[0] / expected[0]
+
+
 def parse_quantity(text, name="value"):
     """A float or a pint quantity from text: ``"2e6"``, ``"2e6 N/m"``, ``"3000 rpm"``.
 
@@ -257,7 +320,11 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
     shown = value  # the messages show what the user gave
     if isinstance(value, str):
         try:
-            value = parse_quantity(value, name)
+            fast = fast_si(value, unit)
+        except UnitError:
+            raise UnitError(f"{name} = {shown!r} has the wrong unit: expected a quantity in {shown_unit}") from None
+        try:
+            value = parse_quantity(value, name) if fast is None else fast
         except _NotANumber:
             raise UnitError(
                 f"{name} = {shown!r} is not a number: expected a float in {shown_unit}, a pint quantity "
@@ -300,6 +367,13 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
 def _quantity_parts(value, unit, name, shown):
     """Magnitude (any shape, still a number or an array) of ``value`` in ``unit``: dimension checked."""
     if isinstance(value, str):
+        try:
+            fast = fast_si(value, unit)
+        except UnitError:
+            raise UnitError(f"{name} = {shown!r} has the wrong unit: expected a quantity in "
+                            f"{unit or 'dimensionless'}") from None
+        if fast is not None:
+            return fast
         try:
             value = parse_quantity(value, name)
         except _NotANumber:

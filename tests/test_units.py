@@ -108,3 +108,57 @@ def test_elements_take_quantity_strings():
     assert LumpedMass(station=1, mass="2500 g").mass == pytest.approx(2.5)
     with pytest.raises(UnitError, match=r"LumpedMass\.mass = '2 N' has the wrong unit"):
         LumpedMass(station=1, mass="2 N")
+
+
+FAST_CASES = ["60 mm", "20 um", "1.5 cm", "3 m", "76.9 kg", "250 g", "2.5 ms", "1.5 min", "3000 rpm", "90 deg",
+              "0.5 rad", "2 MN/m", "400 kN*s/m", "211 GPa", "7850 kg/m**3", "2.43 kg*m**2", "9.81 m/s**2",
+              "5 N*m", "1e-3 Pa*s", "12 rad/s", "1 N/mm", "100 g*mm", "3 kPa", "4 MPa", "-40 MN/m"]
+
+
+@pytest.mark.parametrize("text", FAST_CASES)
+def test_fast_units_equal_pint(text):
+    """The pint-free reading of common units gives pint's value (to one rounding) in the SI unit."""
+    from rotorkit.units import fast_si, parse_quantity
+
+    quantity = parse_quantity(text, "q")
+    si = quantity.to_base_units()
+    expected_unit = str(si.units).replace("meter", "m").replace("kilogram", "kg").replace("second", "s")
+    expected_unit = expected_unit.replace("radian", "rad")
+    expected_unit = "" if expected_unit == "dimensionless" else expected_unit.replace(" ", "")
+    value = fast_si(text, expected_unit)
+    assert value is not None, (text, expected_unit)
+    assert value == pytest.approx(float(si.magnitude), rel=3e-16, abs=0)
+
+
+@pytest.mark.parametrize("text, unit", [("3000 m", "rad/s"), ("2 MN/m", "N*s/m"), ("5 kg", "m"), ("1 rpm", "")])
+def test_fast_units_refuse_a_wrong_dimension(text, unit):
+    from rotorkit.units import fast_si, to_si
+
+    with pytest.raises(UnitError, match="wrong unit"):
+        fast_si(text, unit)
+    with pytest.raises(UnitError, match="wrong unit"):
+        to_si(text, unit, "q")
+
+
+@pytest.mark.parametrize("text, unit", [("50 Hz", "rad/s"), ("5 furlong", "m"), ("3 m**1.5", "m**1.5"),
+                                        ("2 N/m", "N/m**1.5"), ("not a number", "m")])
+def test_fast_units_leave_the_rest_to_pint(text, unit):
+    from rotorkit.units import fast_si
+
+    assert fast_si(text, unit) is None
+
+
+def test_loading_a_model_file_of_common_units_does_not_import_pint():
+    """pint's import and registry (about 1.5 s) are not paid to read examples/compressor.toml."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    code = ("import sys, rotorkit as rk\n"
+            f"m = rk.load_model({str(root / 'examples' / 'compressor.toml')!r})\n"
+            "assert m.parameters['R_speed'] == 3000 * 0 + 10000 * 2 * 3.141592653589793 / 60\n"
+            "print('pint' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=root, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"
