@@ -318,30 +318,8 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
         return None
     shown_unit = unit or "dimensionless"
     shown = value  # the messages show what the user gave
-    if isinstance(value, str):
-        try:
-            fast = fast_si(value, unit)
-        except UnitError:
-            raise UnitError(f"{name} = {shown!r} has the wrong unit: expected a quantity in {shown_unit}") from None
-        try:
-            value = parse_quantity(value, name) if fast is None else fast
-        except _NotANumber:
-            raise UnitError(
-                f"{name} = {shown!r} is not a number: expected a float in {shown_unit}, a pint quantity "
-                "or a string such as '2e6 N/m'"
-            ) from None
-    if _is_quantity(value):
-        if unit.startswith("rad") and "hertz" in str(value.units):
-            raise UnitError(
-                f"{name} = {shown!r}: Hz is ambiguous for an angular quantity (pint takes 1 Hz = 1 rad/s); "
-                f"give {shown_unit}, rpm or turn/s (e.g. 50 Hz spin = 50 turn/s)"
-            )
-        try:
-            magnitude = value.to(unit or "dimensionless").magnitude
-        except Exception as exc:  # pint's DimensionalityError and friends
-            raise UnitError(
-                f"{name} = {shown!r} has the wrong unit: expected a quantity in {shown_unit}"
-            ) from exc
+    if isinstance(value, str) or _is_quantity(value):
+        magnitude = _quantity_parts(value, unit, name, shown, scalar=True)
     elif isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise UnitError(
             f"{name} = {shown!r} is not a number: expected a float in {shown_unit} "
@@ -364,8 +342,14 @@ def to_si(value, unit, name, *, sign=None, allow_none=False):
     return magnitude
 
 
-def _quantity_parts(value, unit, name, shown):
-    """Magnitude (any shape, still a number or an array) of ``value`` in ``unit``: dimension checked."""
+def _quantity_parts(value, unit, name, shown, scalar=False):
+    """Magnitude (any shape, still a number or an array) of ``value`` in ``unit``: dimension checked.
+
+    A string of common units is read without pint (:func:`fast_si`); ``scalar`` words the messages for
+    one value (:func:`to_si`).
+    """
+    expected = f"a float in {unit or 'dimensionless'}" if scalar else f"values in {unit or 'dimensionless'}"
+    example = "'2e6 N/m'" if scalar else "'3000 rpm'"
     if isinstance(value, str):
         try:
             fast = fast_si(value, unit)
@@ -377,10 +361,8 @@ def _quantity_parts(value, unit, name, shown):
         try:
             value = parse_quantity(value, name)
         except _NotANumber:
-            raise UnitError(
-                f"{name} = {shown!r} is not a number: expected values in {unit or 'dimensionless'}, a pint "
-                "quantity or a string such as '3000 rpm'"
-            ) from None
+            raise UnitError(f"{name} = {shown!r} is not a number: expected {expected}, a pint quantity or a "
+                            f"string such as {example}") from None
     if _is_quantity(value):
         if unit.startswith("rad") and "hertz" in str(value.units):
             raise UnitError(
