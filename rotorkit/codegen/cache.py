@@ -51,7 +51,7 @@ import types
 import warnings
 from pathlib import Path
 
-from ..files import atomic_write_bytes, atomic_write_text
+from ..files import atomic_write_bytes, atomic_write_text, read_data
 
 __all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "shared_lock", "shared_is_current"]
 
@@ -146,10 +146,10 @@ def _secret():
     """This user's random signing key (created on first use, mode 0600); OSError if it cannot be kept."""
     path = cache_dir() / "secret.key"
     try:
-        key = path.read_bytes()
+        key = read_data(path, what="cache metadata", max_bytes=64)
         if len(key) == 32 and _private(path) and not path.stat().st_mode & 0o077:
             return key
-    except OSError:
+    except (OSError, ValueError):  # ValueError: not a regular file, or too long
         pass
     if os.path.lexists(path):
         _remove(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
@@ -207,8 +207,8 @@ def load(key):
                        "it is removed and rebuilt", topic=("entry", str(entry)))
             _remove(entry)
             return None
-        meta = json.loads((entry / "meta.json").read_text(encoding="utf-8"))
-        source = (entry / "rhs.py").read_text(encoding="utf-8")
+        meta = json.loads(read_data(entry / "meta.json", what="cache metadata").decode("utf-8"))
+        source = read_data(entry / "rhs.py", what="cache entry").decode("utf-8")
     except (OSError, ValueError) as exc:  # unreadable, a file in place of a folder, not UTF-8, not JSON
         return _discard(key, exc)
     valid = (isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("key") == key
@@ -266,7 +266,7 @@ def _verify_numba_files(entry, folder=None):
     _private_dir(folder)
     secret = _secret()
     try:
-        signed = json.loads((entry / SIGNATURES).read_text(encoding="utf-8"))
+        signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
         signed = signed if isinstance(signed, dict) else {}
     except (OSError, ValueError):
         signed = {}
@@ -274,7 +274,11 @@ def _verify_numba_files(entry, folder=None):
     for path in folder.iterdir():
         good = False
         if path.is_file() and not path.is_symlink() and isinstance(signed.get(path.name), str):
-            good = hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, path.read_bytes()))
+            try:
+                data = read_data(path, what="cache entry")
+            except (OSError, ValueError):
+                data = None
+            good = data is not None and hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, data))
         if not good:
             _remove(path)
             removed.append(path.name)
@@ -450,7 +454,7 @@ def shared_is_current(name, source):
     """
     try:
         entry = cache_dir() / "shared" / name
-        signed = json.loads((entry / SIGNATURES).read_text(encoding="utf-8"))
+        signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
         newest_source = os.stat(source).st_mtime
         index = [p for p in entry.glob("*/*.nbi") if p.name in signed]
         data = [p for p in entry.glob("*/*.nbc") if p.name in signed]

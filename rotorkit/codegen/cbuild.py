@@ -32,7 +32,7 @@ import tempfile
 from pathlib import Path
 
 from ..errors import RotorkitError
-from ..files import atomic_write_bytes, atomic_write_text
+from ..files import atomic_write_bytes, atomic_write_text, read_data
 
 __all__ = ["compiler", "library", "CompilerError", "FLAGS"]
 
@@ -70,8 +70,8 @@ def _verified(folder, name, source_bytes, secret):
     """The library's path if it is there, signed, and built from ``source_bytes``; else None."""
     lib, sig = folder / f"{name}.so", folder / f"{name}.sig.json"
     try:
-        signed = json.loads(sig.read_text(encoding="utf-8"))
-        data = lib.read_bytes()
+        signed = json.loads(read_data(sig, what="cache metadata").decode("utf-8"))
+        data = read_data(lib, what="cache entry")  # a FIFO or a link to /dev/zero is refused, not read
     except (OSError, ValueError):
         return None
     ok = (isinstance(signed, dict)
