@@ -166,6 +166,38 @@ class EquationsOfMotion:
         return "\n".join(out)
 
 
+#: functions trigsimp sees; every other function application is held as an opaque symbol while it works
+_TRIG = ("sin", "cos")
+
+
+def _trigsimp(expr):
+    """``sympy.trigsimp`` of ``expr`` over its sines and cosines only, so that it always ends.
+
+    trigsimp rewrites exponentials and other functions too, and on a user's
+    speed expression (``exp(1000*t)``, ``erf(100*t)``) it can search for
+    minutes. Here every applied function other than sin and cos (with
+    everything inside it) is replaced by a symbol first and put back after:
+    an expression with only sines and cosines (the presets) goes through
+    trigsimp exactly as before.
+    """
+    held = {}
+
+    def hold(e):
+        if e.is_Atom:
+            return e
+        if isinstance(e, sp.Function) and type(e).__name__ not in _TRIG or e.is_Pow and not e.exp.is_Number:
+            if e not in held:
+                held[e] = sp.Dummy(f"held{len(held)}")
+            return held[e]
+        args = tuple(hold(a) for a in e.args)
+        return e if all(a is b for a, b in zip(args, e.args)) else e.func(*args)
+
+    opaque = hold(expr)
+    if not held:
+        return sp.trigsimp(expr)
+    return sp.trigsimp(opaque).xreplace({d: e for e, d in held.items()})
+
+
 def _local(expr, index):
     """Indices (into ``index``'s coordinate order) of the symbols of ``index`` that ``expr`` holds, sorted."""
     if expr == 0:
@@ -190,7 +222,7 @@ def _element_contribution(terms, q_index, u_index, qs, us, t):
             pfs = p.free_symbols
             for j in u_in:
                 if j >= i and us[j] in pfs:
-                    mij = sp.trigsimp(sp.expand(sp.diff(p, us[j])))
+                    mij = _trigsimp(sp.expand(sp.diff(p, us[j])))
                     if mij != 0:
                         mass[(i, j)] = mij
             rest = sp.diff(p, t) + sum((sp.diff(p, qs[k]) * us[k] for k in _local(p, q_index)), sp.S.Zero)
@@ -198,7 +230,7 @@ def _element_contribution(terms, q_index, u_index, qs, us, t):
         for i in _local(T, q_index):
             force[i] += sp.diff(T, qs[i])
         for i in list(force):
-            force[i] = sp.trigsimp(sp.expand(force[i]))
+            force[i] = _trigsimp(sp.expand(force[i]))
     V, D = sp.sympify(terms.potential), sp.sympify(terms.dissipation)
     for i in sorted(set(_local(V, q_index)) | set(_local(D, u_index))):
         if V != 0 and qs[i] in V.free_symbols:
