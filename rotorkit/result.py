@@ -56,7 +56,9 @@ class Result:
 
     def __getitem__(self, name):
         if not isinstance(name, str):
-            raise TypeError(
+            from .errors import ArgumentTypeError
+
+            raise ArgumentTypeError(
                 f"result[{name!r}]: index a result by signal name, e.g. result['x2'] or result['alpha2-alpha5']; "
                 "for samples use result.t and result.y (shape n_states x n_samples)"
             )

@@ -1,6 +1,6 @@
 """``rotorkit campbell``: Campbell and stability diagrams, critical speeds, instability onset."""
 
-from .common import save_figure
+from .common import positive_int, save_figure
 from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds, write_text
 
 
@@ -9,13 +9,14 @@ def register(sub):
     add_linear_arguments(p, speeds=True)
     p.add_argument("--modes", type=int, default=6, help="number of tracked modes (default 6)")
     p.add_argument("--orders", type=float, nargs="+", default=[1.0], help="excitation orders (default 1)")
-    p.add_argument("--cage-samples", type=int, default=4, help="cage positions averaged per speed (default 4)")
+    p.add_argument("--cage-samples", type=positive_int, default=4, help="cage positions averaged per speed (default 4)")
     p.set_defaults(func=main)
 
 
 def main(args):
     from ..analysis.campbell import campbell
 
+    parse_speeds(args.speeds, 1.0)  # the text and the count checked before any compilation
     system, parameter = compiled_scene(args)
     speeds = parse_speeds(args.speeds, system.parameters[parameter])
     diagram = campbell(system, speeds, n_modes=args.modes, speed_parameter=parameter, orders=args.orders,

@@ -42,6 +42,12 @@ class Symbols:
             raise TopologyError(f"parameter {name!r} is not defined by any element") from None
 
 
+#: a model with more coordinates shows a summary in a notebook instead of its LaTeX
+MAX_DISPLAYED_COORDINATES = 40
+#: lines ``str(equations)`` prints at most
+MAX_PRINTED_LINES = 400
+
+
 @dataclass(frozen=True)
 class EquationsOfMotion:
     """The derived equations ``M(q, t) q'' = f(q, q', t)`` of one model structure.
@@ -147,12 +153,20 @@ class EquationsOfMotion:
         return "\\begin{gathered}\n" + " \\\\\n".join(lines) + "\n\\end{gathered}"
 
     def _repr_latex_(self):
+        if self.n > MAX_DISPLAYED_COORDINATES:  # a notebook shows the summary (repr) instead of pages of LaTeX
+            return None
         return "$$" + self.latex() + "$$"
+
+    def __repr__(self):
+        """A one-line summary, whatever the size (``str()`` lists the entries, :meth:`latex` renders them)."""
+        return (f"<EquationsOfMotion: {self.n} coordinates, {len(self.parameters)} parameters, "
+                f"{len(self.mass_matrix.todok())} non-zero mass entries, "
+                f"forces from {len(self.forces)} elements>")
 
     def __str__(self):
         q = [str(c) for c in self.coordinates]
         out = [f"Equations of motion, {self.n} coordinates: M(q, t) q'' + C q' + K q = F(q, q', t)",
-               f"q = [{', '.join(q)}]"]
+               f"q = [{', '.join(q) if len(q) <= 12 else ', '.join(q[:6]) + ', ..., ' + q[-1]}]"]
         for title, mat in (("M", self.mass_matrix), ("C", self.damping), ("K", self.stiffness)):
             out.append(f"\n{title} (nonzero entries, symmetric: upper triangle):")
             for (i, j), v in sorted(mat.todok().items()):
@@ -163,6 +177,10 @@ class EquationsOfMotion:
             for i, v in enumerate(vec):
                 if v != 0:
                     out.append(f"  F[{q[i]}] = {v}")
+        if len(out) > MAX_PRINTED_LINES:  # a model of thousands of coordinates: the start and a count
+            rest = len(out) - MAX_PRINTED_LINES
+            out = out[:MAX_PRINTED_LINES] + [f"... {rest} more entries (the matrices are mass_matrix, damping, "
+                                             "stiffness and forces)"]
         return "\n".join(out)
 
 
