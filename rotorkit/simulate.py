@@ -435,6 +435,18 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
             reached = float(out_t[-1][-1]) if out_t and out_t[-1].size else a
             seg = _Segment(t=np.empty(0), y=np.empty((system.n_states, 0)), y_end=y, t_reached=reached, nfev=0,
                            success=False, message=f"interrupted (Ctrl-C) at t = {reached:.6g} s")
+        except (OverflowError, ZeroDivisionError, FloatingPointError, ValueError) as exc:
+            if isinstance(exc, ValueError) and "math domain" not in str(exc):
+                raise
+            # the Python back end's math raises where compiled code gives inf: an expression of the model (a speed
+            # such as exp(1000 t)) left the range of doubles
+            del out_t[len(out_y):], out_y[len(out_t):]
+            reached = float(out_t[-1][-1]) if out_t and out_t[-1].size else a
+            seg = _Segment(t=np.empty(0), y=np.empty((system.n_states, 0)), y_end=y, t_reached=reached, nfev=0,
+                           success=False, message=f"the equations overflowed or left their domain between "
+                                                  f"t = {reached:.6g} s and {b:.6g} s ({type(exc).__name__}: {exc}); "
+                                                  "an expression of the model (e.g. a speed profile) grows beyond "
+                                                  "1e308 or is undefined there")
         if not seg.success:
             partial = _result(system, out_t, out_y, stats, options, engine, start_wall, False, seg.message)
             raise SimulationError(_failure_message(system, seg, a, b), partial=partial, time=seg.t_reached)

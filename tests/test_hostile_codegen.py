@@ -178,3 +178,11 @@ def test_a_speed_expression_with_erf_runs_in_c_as_in_python(deadline):
 def test_speed_expressions_the_equations_cannot_hold_are_named_errors(speed, words):
     with pytest.raises(ParameterError, match=words):
         jeffcott(speed, lambda t: 300 * t).equations()
+
+
+def test_a_speed_that_overflows_during_a_run_is_a_simulation_error(deadline):
+    from rotorkit.errors import SimulationError
+
+    model = jeffcott(lambda t: 300 * sp.exp(1000 * t), lambda t: sp.Rational(3, 10) * (sp.exp(1000 * t) - 1))
+    with pytest.raises(SimulationError, match="overflow|non-finite|divergence"):
+        simulate(model.compile(backend="python"), (0.0, 1.0), engine="scipy", sample_rate=100.0)

@@ -95,7 +95,12 @@ def _compile(folder, name, source_bytes, secret):
                                 f"{done.stderr.strip()[-4000:]}")
         os.chmod(tmp, 0o700)
         data = Path(tmp).read_bytes()
-        os.replace(tmp, folder / f"{name}.so")
+        target = folder / f"{name}.so"
+        if os.path.lexists(target) and (target.is_symlink() or not target.is_file()):
+            from . import cache
+
+            cache._remove(target)  # a folder or a FIFO in the library's place: a damaged cache, repaired
+        os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
