@@ -46,6 +46,8 @@ MAX_SAMPLE_BYTES = 16e9
 MAX_RTOL = 0.1
 #: most steps a run may be asked for by max_step (the compiled engine's own limit on step attempts)
 MAX_STEP_COUNT = 5e7
+#: consecutive steps below (span / MAX_STEP_COUNT) after which a scipy run stops as collapsed
+COLLAPSED_STEPS = 2000
 MAX_ATOL = 1e-2
 #: methods that use the analytic Jacobian generated from the symbolic equations
 IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
@@ -80,14 +82,13 @@ def _sample_times(t0, t1, sample_rate):
 
 
 def _check_system(system):
-    """ArgumentTypeError unless ``system`` is a compiled system (a Model must be compiled first)."""
+    """ArgumentTypeError unless ``system`` is a compiled system, or duck-typed like one (a Model must be compiled
+    first)."""
     from .errors import ArgumentTypeError
-    from .system import System
-
-    if isinstance(system, System):
-        return
     from .model import Model
 
+    if not isinstance(system, Model) and all(hasattr(system, a) for a in ("n_states", "rhs", "within", "state_names")):
+        return
     if isinstance(system, Model):
         raise ArgumentTypeError(f"simulate: got the Model {system.name!r}; expected a compiled system: "
                                 "simulate(model.compile(), ...)")
@@ -185,12 +186,21 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
             ys.append(values)
             k = stop
 
+    tiny_step = (b - a) / MAX_STEP_COUNT  # steps this small all the way would exceed the step budget
+    tiny_run = 0
     try:
         while solver.status == "running":
             t_old = solver.t
             step_message = solver.step()
             if solver.status == "failed":
                 message = step_message
+                break
+            tiny_run = tiny_run + 1 if 0 < solver.t - t_old < tiny_step else 0
+            if tiny_run > COLLAPSED_STEPS:
+                message = (f"the step size collapsed to {solver.t - t_old:.3g} s for {COLLAPSED_STEPS} steps at "
+                           f"t = {solver.t:.6g} s: the rest of the run would take more than {MAX_STEP_COUNT:.0e} "
+                           "steps (an expression of the model growing without bound, e.g. a speed such as "
+                           "exp(1000 t), or an extremely stiff contact)")
                 break
             if not np.all(np.isfinite(solver.y)) or np.abs(solver.y).max() > DIVERGED:
                 message = f"non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) after a step"

@@ -184,5 +184,5 @@ def test_a_speed_that_overflows_during_a_run_is_a_simulation_error(deadline):
     from rotorkit.errors import SimulationError
 
     model = jeffcott(lambda t: 300 * sp.exp(1000 * t), lambda t: sp.Rational(3, 10) * (sp.exp(1000 * t) - 1))
-    with pytest.raises(SimulationError, match="overflow|non-finite|divergence"):
-        simulate(model.compile(backend="python"), (0.0, 1.0), engine="scipy", sample_rate=100.0)
+    with pytest.raises(SimulationError, match=r"step size collapsed .* more than 5e\+07 steps .*exp\(1000 t\)"):
+        simulate(model.compile(backend="python"), (0.0, 100.0), engine="scipy", sample_rate=10.0)
