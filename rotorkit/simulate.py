@@ -570,12 +570,12 @@ def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_lim
     if not t1 > t0:
         raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
     sample_rate = _number(sample_rate, "sample_rate", "a rate > 0 in Hz")
+    _check_memory(system, t1 - t0, sample_rate)  # first: its message gives the memory the samples need
     if (t1 - t0) * sample_rate > MAX_SAMPLES:
-        n = (t1 - t0) * sample_rate
+        n, need = (t1 - t0) * sample_rate, sample_memory(system.n_states, t1 - t0, sample_rate)
         raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives {n:.3g} samples, more "
-                             f"than {MAX_SAMPLES:.0e} (about {sample_memory(system.n_states, t1 - t0, sample_rate) / 1e9:.3g} "
-                             "GB and an interpolation per sample); lower the sample rate or the span")
-    _check_memory(system, t1 - t0, sample_rate)
+                             f"than {MAX_SAMPLES:.0e} (about {need / 1e9:.3g} GB and an interpolation per sample); "
+                             "lower the sample rate or the span")
     rtol = _number(rtol, "rtol", "a relative tolerance > 0 (e.g. 1e-6)")
     if rtol > MAX_RTOL:
         raise ParameterError(f"rtol={rtol!r} cannot give an answer: a relative error above {MAX_RTOL:g} controls "

@@ -57,7 +57,7 @@ def test_campbell_speed_counts_are_bounded():
     (["campbell", "al31f", "--speeds", "200:3000:100000000"], "COUNT = 100000000 speeds"),
     (["campbell", "al31f", "--cage-samples", "0"], "expected an integer >= 1"),
     (["modes", "al31f", "--shapes", "-1"], "expected an integer >= 0"),
-    (["sweep", "al31f", "--param", "rub_stiffness=1e6:2e6:2", "--order", "-1"], "order '-1': the order is not positive"),
+    (["sweep", "al31f", "--param", "rub_stiffness=1e6:2e6:2", "--order", "-1"], "order '-1': the order is not"),
     (["sweep", "al31f", "--param", "rub_stiffness=1e6:2e6:2", "--order", "1/0"], "divides by zero"),
 ], ids=["speeds", "cage-samples", "shapes", "order -1", "order 1/0"])
 def test_cli_counts_and_orders_are_named_errors_before_any_work(tmp_path, capsys, monkeypatch, argv, words):
@@ -86,9 +86,12 @@ def test_sample_times_are_bounded(system):
         rk.simulate(system, (0.0, 1.0), sample_times=np.broadcast_to(0.5, (10**8,)))
 
 
-def test_sample_rate_over_the_span_is_bounded(system):
-    with pytest.raises(ParameterError, match=r"1e\+09 samples, more than 1e\+08 .* GB"):
-        rk.simulate(system, (0.0, 10.0), sample_rate=1e8)
+def test_sample_rate_over_the_span_is_bounded(system, monkeypatch):
+    import sys
+
+    monkeypatch.setattr(sys.modules["rotorkit.simulate"], "_available_memory", lambda: 10**12)  # memory is not what binds here
+    with pytest.raises(ParameterError, match=r"1.5e\+08 samples, more than 1e\+08 \(about 12 GB"):
+        rk.simulate(system, (0.0, 1.5), sample_rate=1e8)
 
 
 def test_a_run_that_would_take_about_1e10_explicit_steps_is_refused_before_it_starts():
