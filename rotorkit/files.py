@@ -142,9 +142,7 @@ def _refuse_non_regular(path, what):
 
     try:
         st = os.stat(path)  # follows a symbolic link: the kind of what it points at
-    except FileNotFoundError:
-        if os.path.islink(path):  # a dangling link is replaced by the file, which is harmless
-            return
+    except FileNotFoundError:  # nothing there (or a dangling link, replaced by the file: harmless)
         return
     except OSError:
         return  # the write itself will report it
