@@ -369,6 +369,9 @@ def write_folder(out, write):
     out.parent.mkdir(parents=True, exist_ok=True)
     _remove_abandoned(out)
     staging = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.rotorkit-{os.getpid()}-"))
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(staging, 0o777 & ~umask)  # mkdtemp makes it 0700; the run's folder gets a new folder's mode
     try:
         names = [Path(p).name for p in write(staging)]
         entries = []
