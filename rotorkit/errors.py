@@ -9,6 +9,7 @@ __all__ = [
     "RotorkitError",
     "ParameterError",
     "UnitError",
+    "ArgumentTypeError",
     "TopologyError",
     "SimulationError",
 ]
@@ -24,6 +25,11 @@ class ParameterError(RotorkitError, ValueError):
 
 class UnitError(ParameterError, TypeError):
     """A quantity has the wrong physical dimension or type."""
+
+
+class ArgumentTypeError(ParameterError, TypeError):
+    """An argument is an object of the wrong kind (a Model where a compiled system is expected, a number where a
+    signal name is); the message says what is expected."""
 
 
 class TopologyError(RotorkitError, ValueError):

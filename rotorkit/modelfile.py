@@ -62,7 +62,7 @@ import numpy as np
 from .errors import ParameterError, RotorkitError, UnitError
 
 __all__ = ["FORMAT", "VERSION", "ModelFileError", "dumps_model", "save_model", "loads_model", "load_model",
-           "element_types", "register_type", "parse_quantity"]
+           "element_types", "register_type", "parse_quantity", "check_run_table", "check_signal", "model_signals"]
 
 FORMAT = "rotorkit-model"
 VERSION = 1
@@ -352,6 +352,11 @@ def _did_you_mean(name, options):
     return f"did you mean {', '.join(near)}?" if near else f"expected one of: {', '.join(options)}"
 
 
+def _near(name, options):
+    near = difflib.get_close_matches(str(name), list(options), n=3)
+    return f"; did you mean {', '.join(near)}?" if near else ""
+
+
 def _to_python(value):
     """TOML arrays -> tuples (elements are immutable); tables stay dicts."""
     if isinstance(value, list):
@@ -458,7 +463,64 @@ def loads_model(text, *, source="<string>"):
         model = Model(elements, name=name)
     except RotorkitError as err:
         raise ModelFileError(f"{source}: {err}") from err
+    try:
+        check_run_table(run, model)
+    except ParameterError as err:
+        raise ModelFileError(f"{source}: {err}") from None
     return model, dict(run)
+
+
+def model_signals(model):
+    """The signal names a run of ``model`` has: its coordinates and their rates (``x2``, ``x2_dot``, ...)."""
+    names = tuple(model.coordinate_names)
+    return names + tuple(f"{n}_dot" for n in names)
+
+
+def check_signal(text, signals, where):
+    """``text`` if it is a signal of ``signals`` or a difference ``a-b`` of two; ParameterError otherwise.
+
+    Only such names ever become parts of file names (figures), so a name from
+    a file cannot hold a path separator, ``..`` or any other character.
+    """
+    if not isinstance(text, str):
+        raise ParameterError(f"{where} = {text!r}: expected a signal name such as {signals[0]!r} or a difference "
+                             f"such as {signals[0]}-{signals[-1]}")
+    parts = [part.strip() for part in text.split("-", 1)]
+    unknown = [part for part in parts if part not in signals]
+    if unknown:
+        shown = ", ".join(signals[:12]) + (", ..." if len(signals) > 12 else "")
+        raise ParameterError(f"{where} = {text!r}: {unknown[0]!r} is not a signal of the model; its signals are "
+                             f"{shown} (or a difference of two, e.g. 'a-b'){_near(unknown[0], signals)}")
+    return text
+
+
+def check_run_table(run, model):
+    """Check a ``[run]`` table (or a preset's ``OUTPUTS``) against ``model`` before any run.
+
+    ``orbit_station`` must be a station with ``x`` and ``y`` coordinates,
+    ``bending`` and ``torsion`` signals of the model (``torsion`` only on a
+    model with torsion coordinates), ``clearance_parameter`` a parameter of
+    the model. Raises ParameterError naming the key, the value and what is
+    expected.
+    """
+    signals = model_signals(model)
+    station = run.get("orbit_station")
+    if station is not None:
+        if isinstance(station, bool) or not isinstance(station, (int, str)) \
+                or not (model.has_coordinate(station, "x") and model.has_coordinate(station, "y")):
+            lateral = [s for s in model.stations if model.has_coordinate(s, "x") and model.has_coordinate(s, "y")]
+            raise ParameterError(f"[run] orbit_station = {station!r}: expected a station with x and y "
+                                 f"coordinates: {', '.join(map(str, lateral)) or 'none in this model'}")
+    for key in ("bending", "torsion"):
+        if run.get(key) is not None:
+            check_signal(run[key], signals, f"[run] {key}")
+    if run.get("torsion") is not None and not any(n.startswith("alpha") for n in model.coordinate_names):
+        raise ParameterError(f"[run] torsion = {run['torsion']!r}: the model has no torsion coordinates "
+                             "(alpha...); drop the key or add torsion to the model")
+    clearance = run.get("clearance_parameter")
+    if clearance is not None and clearance not in model.parameters:
+        raise ParameterError(f"[run] clearance_parameter = {clearance!r}: not a parameter of the model"
+                             f"{_near(str(clearance), list(model.parameters))}")
 
 
 def load_model(path):
@@ -479,19 +541,22 @@ def load_model(path):
 
 
 def read_model_file(path):
-    """``(model, run)`` from a model file: the model and its ``[run]`` table."""
-    path = Path(path)
+    """``(model, run)`` from a model file: the model and its ``[run]`` table.
+
+    The file is read as data of a bounded size and kind (:func:`rotorkit.files.read_data`):
+    a FIFO, a device, a link to one or a file larger than ``MAX_BYTES`` is refused unread.
+    """
+    from .files import check_path, read_data
+
     try:
-        size = path.stat().st_size
-    except OSError as err:
-        raise ModelFileError(f"{path}: cannot read the model file ({err.strerror})") from err
-    if size > MAX_BYTES:
-        raise ModelFileError(f"{path}: {size} bytes; a model file is at most {MAX_BYTES} bytes")
+        path = check_path(path, "model file")
+    except ParameterError as err:
+        raise ModelFileError(str(err)) from None
     try:
-        raw = path.read_bytes()
+        raw = read_data(path, what="model file", max_bytes=MAX_BYTES, error=ModelFileError)
         text = raw.decode("utf-8")
     except OSError as err:
-        raise ModelFileError(f"{path}: cannot read the model file ({err.strerror})") from err
+        raise ModelFileError(f"{path}: cannot read the model file ({err.strerror or err})") from err
     except UnicodeDecodeError as err:
         raise ModelFileError(f"{path}: not UTF-8 text ({err.reason} at byte {err.start})") from err
     return loads_model(text, source=str(path))

@@ -65,7 +65,9 @@ class Result:
 
     def __getitem__(self, name):
         if not isinstance(name, str):
-            raise TypeError(
+            from .errors import ArgumentTypeError
+
+            raise ArgumentTypeError(
                 f"result[{name!r}]: index a result by signal name, e.g. result['x2'] or result['alpha2-alpha5']; "
                 "for samples use result.t and result.y (shape n_states x n_samples)"
             )
@@ -153,12 +155,12 @@ def _jsonable(d):
 MAX_LOAD_BYTES = 8e9
 
 
-def _declared_bytes(path):
+def _declared_bytes(path, fh):
     """Bytes the arrays of an ``.npz`` declare (read from each .npy header, nothing decompressed beyond it)."""
     import zipfile
 
     total = 0
-    with zipfile.ZipFile(path) as archive:
+    with zipfile.ZipFile(fh) as archive:
         members = archive.infolist()
         if len(members) > 16:
             raise ParameterError(f"{path}: {len(members)} arrays; a rotorkit result holds t, y and meta")
@@ -187,23 +189,29 @@ def load_result(path, *, max_bytes=None):
     FileNotFoundError
         There is no such file.
     """
-    path = Path(path)
+    from .files import LIMITS, check_path, open_data
+
+    path = check_path(path, "result file")
     if not path.exists():
         raise FileNotFoundError(path)
-    try:
-        declared = _declared_bytes(path)
-        if max_bytes is None:
-            from .simulate import _available_memory
+    if max_bytes is None:
+        from .simulate import _available_memory
 
-            free = _available_memory()
-            max_bytes = min(MAX_LOAD_BYTES, 0.5 * free) if free else MAX_LOAD_BYTES
-        if declared > max_bytes:
-            raise ParameterError(f"{path}: its arrays declare {declared / 1e9:.3g} GB, more than the "
-                                 f"{max_bytes / 1e9:.3g} GB limit; pass load_result(..., max_bytes=...) if the "
-                                 "file is yours and that memory is free")
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            t, y = data["t"].copy(), data["y"].copy()
+        free = _available_memory()
+        max_bytes = min(MAX_LOAD_BYTES, 0.5 * free) if free else MAX_LOAD_BYTES
+    # the kind and size of the file first (a FIFO, a device or a huge file is refused unread)
+    fh = open_data(path, what="result file", max_bytes=min(LIMITS["result file"], max_bytes + 2**20))
+    try:
+        with fh:
+            declared = _declared_bytes(path, fh)
+            if declared > max_bytes:
+                raise ParameterError(f"{path}: its arrays declare {declared / 1e9:.3g} GB, more than the "
+                                     f"{max_bytes / 1e9:.3g} GB limit; pass load_result(..., max_bytes=...) if the "
+                                     "file is yours and that memory is free")
+            fh.seek(0)
+            with np.load(fh, allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                t, y = data["t"].copy(), data["y"].copy()
         if not isinstance(meta, dict) or meta.get("format") != FILE_FORMAT:
             raise ParameterError(f"{path}: not a rotorkit result file (format "
                                  f"{meta.get('format') if isinstance(meta, dict) else None!r})")

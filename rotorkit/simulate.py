@@ -38,12 +38,16 @@ SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 COMPILED_METHODS = ("RK45", "DOP853")
 #: a state beyond this magnitude has diverged (SI rotor states are many orders smaller)
 DIVERGED = 1e10
+#: most samples one run may be asked for (a sample_rate over the span, or sample_times)
+MAX_SAMPLES = 1e8
 #: most memory the samples of one run may take (also at most half the free memory)
 MAX_SAMPLE_BYTES = 16e9
 #: loosest tolerances that still control the error of a rotor response (larger ones are refused)
 MAX_RTOL = 0.1
 #: most steps a run may be asked for by max_step (the compiled engine's own limit on step attempts)
 MAX_STEP_COUNT = 5e7
+#: consecutive steps below (span / MAX_STEP_COUNT) after which a scipy run stops as collapsed
+COLLAPSED_STEPS = 2000
 MAX_ATOL = 1e-2
 #: methods that use the analytic Jacobian generated from the symbolic equations
 IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
@@ -77,8 +81,28 @@ def _sample_times(t0, t1, sample_rate):
     return t
 
 
-def _checked_times(times, t0, t1):
-    """Explicit sample instants: finite, sorted, inside [t0, t1]."""
+def _check_system(system):
+    """ArgumentTypeError unless ``system`` is a compiled system, or duck-typed like one (a Model must be compiled
+    first)."""
+    from .errors import ArgumentTypeError
+    from .model import Model
+
+    if not isinstance(system, Model) and all(hasattr(system, a) for a in ("n_states", "rhs", "within", "state_names")):
+        return
+    if isinstance(system, Model):
+        raise ArgumentTypeError(f"simulate: got the Model {system.name!r}; expected a compiled system: "
+                                "simulate(model.compile(), ...)")
+    raise ArgumentTypeError(f"simulate: got {type(system).__name__}; expected a compiled system "
+                            "(rotorkit.Model(...).compile() or rotorkit.reduce(...))")
+
+
+def _checked_times(times, t0, t1, system=None):
+    """Explicit sample instants: finite, sorted, inside [t0, t1]; at most MAX_SAMPLES of them, fitting in memory."""
+    size = getattr(times, "size", None) if not isinstance(times, (list, tuple)) else len(times)
+    if isinstance(size, int) and size >= MAX_SAMPLES:  # before any copy of them is made
+        need = 2 * 8 * ((system.n_states if system is not None else 1) + 1) * size
+        raise ParameterError(f"sample_times: {size} times, more than {MAX_SAMPLES - 1:.0f} (the samples would take "
+                             f"about {need / 1e9:.3g} GB and an interpolation each): give fewer sample times")
     try:
         t = np.asarray(times, dtype=float).ravel()
     except (TypeError, ValueError):
@@ -162,12 +186,21 @@ def _run_scipy(system, a, b, y, t_eval, options, tick, deadline, bound=None):
             ys.append(values)
             k = stop
 
+    tiny_step = (b - a) / MAX_STEP_COUNT  # steps this small all the way would exceed the step budget
+    tiny_run = 0
     try:
         while solver.status == "running":
             t_old = solver.t
             step_message = solver.step()
             if solver.status == "failed":
                 message = step_message
+                break
+            tiny_run = tiny_run + 1 if 0 < solver.t - t_old < tiny_step else 0
+            if tiny_run > COLLAPSED_STEPS:
+                message = (f"the step size collapsed to {solver.t - t_old:.3g} s for {COLLAPSED_STEPS} steps at "
+                           f"t = {solver.t:.6g} s: the rest of the run would take more than {MAX_STEP_COUNT:.0e} "
+                           "steps (an expression of the model growing without bound, e.g. a speed such as "
+                           "exp(1000 t), or an extremely stiff contact)")
                 break
             if not np.all(np.isfinite(solver.y)) or np.abs(solver.y).max() > DIVERGED:
                 message = f"non-finite or diverging state (NaN, inf or |y| > {DIVERGED:g}) after a step"
@@ -357,6 +390,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         The integration failed; ``err.partial`` holds the samples before the
         failure and ``err.time`` the time reached.
     """
+    _check_system(system)
     if method not in SCIPY_METHODS:
         raise ParameterError(f"method={method!r} is unknown; expected one of {', '.join(SCIPY_METHODS)}")
     t0, t1, sample_rate, rtol, atol, max_step, time_limit = _check_arguments(
@@ -397,7 +431,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     if contact_events:
         options["contact_events"] = True
     run = _run_compiled if engine == "compiled" else _run_scipy
-    samples = _sample_times(t0, t1, sample_rate) if sample_times is None else _checked_times(sample_times, t0, t1)
+    samples = _sample_times(t0, t1, sample_rate) if sample_times is None else _checked_times(sample_times, t0, t1, system)
     out_t, out_y = [], []
     stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0, "events": 0}
     start_wall = _time.perf_counter()
@@ -411,6 +445,18 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
             reached = float(out_t[-1][-1]) if out_t and out_t[-1].size else a
             seg = _Segment(t=np.empty(0), y=np.empty((system.n_states, 0)), y_end=y, t_reached=reached, nfev=0,
                            success=False, message=f"interrupted (Ctrl-C) at t = {reached:.6g} s")
+        except (OverflowError, ZeroDivisionError, FloatingPointError, ValueError) as exc:
+            if isinstance(exc, ValueError) and "math domain" not in str(exc):
+                raise
+            # the Python back end's math raises where compiled code gives inf: an expression of the model (a speed
+            # such as exp(1000 t)) left the range of doubles
+            del out_t[len(out_y):], out_y[len(out_t):]
+            reached = float(out_t[-1][-1]) if out_t and out_t[-1].size else a
+            seg = _Segment(t=np.empty(0), y=np.empty((system.n_states, 0)), y_end=y, t_reached=reached, nfev=0,
+                           success=False, message=f"the equations overflowed or left their domain between "
+                                                  f"t = {reached:.6g} s and {b:.6g} s ({type(exc).__name__}: {exc}); "
+                                                  "an expression of the model (e.g. a speed profile) grows beyond "
+                                                  "1e308 or is undefined there")
         if not seg.success:
             partial = _result(system, out_t, out_y, stats, options, engine, start_wall, False, seg.message)
             raise SimulationError(_failure_message(system, seg, a, b), partial=partial, time=seg.t_reached)
@@ -524,10 +570,12 @@ def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_lim
     if not t1 > t0:
         raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
     sample_rate = _number(sample_rate, "sample_rate", "a rate > 0 in Hz")
-    if (t1 - t0) * sample_rate > 1e9:
-        raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives more than 1e9 samples; "
+    _check_memory(system, t1 - t0, sample_rate)  # first: its message gives the memory the samples need
+    if (t1 - t0) * sample_rate > MAX_SAMPLES:
+        n, need = (t1 - t0) * sample_rate, sample_memory(system.n_states, t1 - t0, sample_rate)
+        raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives {n:.3g} samples, more "
+                             f"than {MAX_SAMPLES:.0e} (about {need / 1e9:.3g} GB and an interpolation per sample); "
                              "lower the sample rate or the span")
-    _check_memory(system, t1 - t0, sample_rate)
     rtol = _number(rtol, "rtol", "a relative tolerance > 0 (e.g. 1e-6)")
     if rtol > MAX_RTOL:
         raise ParameterError(f"rtol={rtol!r} cannot give an answer: a relative error above {MAX_RTOL:g} controls "
@@ -579,12 +627,19 @@ def _warn_if_stiff(system, t0, t1, y, sample_rate):
     """Warn an explicit run whose steps the fastest time scale will hold far below the output interval."""
     import warnings
 
-    from .analysis.stiffness import explicit_step_warning
+    from .analysis.stiffness import explicit_step, explicit_step_warning
 
     try:
         message = explicit_step_warning(system, t0, t1, y, sample_rate)
+        step = explicit_step(system, t0, y)
     except (np.linalg.LinAlgError, ValueError):  # a non-finite Jacobian (a subnormal mass, say)
         _raise_non_finite_start(system)
+    if step is not None and (t1 - t0) / step > MAX_STEP_COUNT:  # hours to days: refused before the first step
+        raise ParameterError(
+            f"{system.name}: the fastest time scale at the start state limits an explicit method to steps of about "
+            f"{step:.3g} s, so ({t0:g}, {t1:g}) s takes about {(t1 - t0) / step:.3g} steps, more than the "
+            f"{MAX_STEP_COUNT:.0e} any run may take (hours of wall time). Check the model's values (a tiny mass, "
+            "a huge stiffness), or use method='Radau' (implicit, analytic Jacobian)")
     if message:
         warnings.warn(message, RuntimeWarning, stacklevel=3)
 

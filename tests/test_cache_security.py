@@ -219,8 +219,16 @@ def test_a_damaged_cache_folder_is_rebuilt_with_one_warning(fresh_cache, monkeyp
                     raise PermissionError(13, "Permission denied", str(self))
                 return real_read(self, *args, **kwargs)
 
+            real_open = os.open
+
+            def os_open(path, *args, **kwargs):  # rotorkit.files.read_data opens with os.open
+                if str(path).startswith(str(folder) + os.sep) and not folder.stat().st_mode & 0o700:
+                    raise PermissionError(13, "Permission denied", str(path))
+                return real_open(path, *args, **kwargs)
+
             monkeypatch.setattr(os, "access", access)
             monkeypatch.setattr(type(entry), "read_text", read_text)
+            monkeypatch.setattr(os, "open", os_open)
     forget(monkeypatch)
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")

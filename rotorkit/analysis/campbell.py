@@ -354,10 +354,17 @@ def _match(previous_shapes, previous_freqs, modes, count):
     return out
 
 
+#: most speeds a Campbell diagram is computed at
+MAX_SPEEDS = 100_000
+
+
 def _check_speeds(speeds):
     from ..units import to_si_array
 
     w = to_si_array(speeds, "rad/s", "speeds")
+    if w.size > MAX_SPEEDS:  # each speed is an eigen-solution (and a linearisation): bounded before any work
+        raise ParameterError(f"speeds: {w.size} speeds, more than the {MAX_SPEEDS} a diagram takes (each one an "
+                             "eigen-solution of the model; about a millisecond or more each): give fewer speeds")
     if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w)):
         raise ParameterError(f"speeds has shape {w.shape}: expected a non-empty 1-D array of finite speeds (rad/s)")
     if w.size > 1 and np.any(np.diff(w) <= 0):
@@ -436,8 +443,8 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
 
     from ..units import to_si
 
+    w = _check_speeds(speeds)  # first: a count beyond the bound is refused before any compilation
     target = _resolve_system(model_or_preset_builder, backend)
-    w = _check_speeds(speeds)
     t = to_si(t, "s", "t")
     if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:
         raise ParameterError(f"n_modes={n_modes!r} is invalid: expected an integer >= 1")

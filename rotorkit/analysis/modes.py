@@ -130,6 +130,9 @@ def _check_options(system, t, rub_engaged, unbalance, cage_samples, method, equi
         raise ParameterError(f"unbalance={unbalance!r} is invalid: expected True or False")
     if isinstance(cage_samples, bool) or not isinstance(cage_samples, numbers.Integral) or cage_samples < 1:
         raise ParameterError(f"cage_samples={cage_samples!r} is invalid: expected an integer >= 1")
+    if cage_samples > 10_000:  # each sample is an equilibrium and a Jacobian of the model
+        raise ParameterError(f"cage_samples={cage_samples!r} is too many: each is an equilibrium and a Jacobian "
+                             "of the model (milliseconds to seconds each); expected at most 10000 (default 16)")
     if method not in ("fd", "analytic", "auto"):
         raise ParameterError(f"method={method!r} is unknown; expected 'fd', 'analytic' or 'auto'")
     given = None

@@ -14,8 +14,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
 from .linearize import _check_system, static_equilibrium
 from .whirl import station_pairs
 

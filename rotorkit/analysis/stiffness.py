@@ -165,6 +165,19 @@ def finite_difference_jacobian(system, t, y):
     return J
 
 
+def explicit_step(system, t0, y):
+    """The largest stable explicit step (s) at state ``y`` and time ``t0``: ``3.3 / |lambda_max|``; None if there is
+    no fast scale. Remembered per system, time and state."""
+    key = (float(t0), np.asarray(y, dtype=float).tobytes())
+    memo = system.__dict__.setdefault("_fastest_rate_memo", {})
+    if key not in memo:
+        if len(memo) > 64:
+            memo.clear()
+        memo[key] = fastest_rate(finite_difference_jacobian(system.within(t0, t0 + 1.0), t0, y))
+    rate = memo[key]
+    return STABILITY_LIMIT / rate if rate > 0 else None
+
+
 def explicit_step_warning(system, t0, t1, y, sample_rate):
     """Why an explicit run over ``[t0, t1]`` sampled at ``sample_rate`` would crawl, or None.
 
@@ -183,16 +196,10 @@ def explicit_step_warning(system, t0, t1, y, sample_rate):
     radius (:func:`fastest_rate`), remembered per system, time and state, so
     repeated runs (sweeps) pay once.
     """
-    key = (float(t0), np.asarray(y, dtype=float).tobytes())
-    memo = system.__dict__.setdefault("_fastest_rate_memo", {})
-    if key not in memo:
-        if len(memo) > 64:
-            memo.clear()
-        memo[key] = fastest_rate(finite_difference_jacobian(system.within(t0, t0 + 1.0), t0, y))
-    rate = memo[key]
-    if not rate > 0:
+    step = explicit_step(system, t0, y)
+    if step is None:
         return None
-    step = STABILITY_LIMIT / rate
+    rate = STABILITY_LIMIT / step
     per_output = 1.0 / (sample_rate * step)
     forced = (t1 - t0) / step
     if per_output < STEPS_PER_OUTPUT or forced < MIN_FORCED_STEPS:

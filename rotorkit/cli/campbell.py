@@ -1,6 +1,6 @@
 """``rotorkit campbell``: Campbell and stability diagrams, critical speeds, instability onset."""
 
-from .common import save_figure
+from .common import positive_int, save_figure
 from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds
 
 
@@ -9,7 +9,7 @@ def register(sub):
     add_linear_arguments(p, speeds=True)
     p.add_argument("--modes", type=int, default=6, help="number of tracked modes (default 6)")
     p.add_argument("--orders", type=float, nargs="+", default=[1.0], help="excitation orders (default 1)")
-    p.add_argument("--cage-samples", type=int, default=4, help="cage positions averaged per speed (default 4)")
+    p.add_argument("--cage-samples", type=positive_int, default=4, help="cage positions averaged per speed (default 4)")
     p.set_defaults(func=main)
 
 

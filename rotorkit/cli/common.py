@@ -5,7 +5,7 @@ import sys
 from ..errors import ParameterError
 
 __all__ = ["parse_assignment", "progress_printer", "save_figure", "load_preset", "load_scene", "add_scene_arguments",
-           "scene_module", "check_parameter_name", "positive_float", "positive_int", "FileScene"]
+           "scene_module", "check_parameter_name", "positive_float", "positive_int", "nonnegative_int", "FileScene"]
 
 _TRUE, _FALSE = {"true", "yes", "on", "1"}, {"false", "no", "off", "0"}
 
@@ -102,6 +102,19 @@ def positive_int(text):
         raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"{text!r}: expected an integer >= 1")
+    return value
+
+
+def nonnegative_int(text):
+    """argparse type: an integer >= 0."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected an integer >= 0")
     return value
 
 

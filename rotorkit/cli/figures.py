@@ -46,17 +46,28 @@ def write_figures(result, outputs, out, measurement=None):
     clearance = result.parameters.get(outputs.get("clearance_parameter", ""), None)
     if station is not None:
         ax = plot_orbit(result, station, clearance=clearance)
-        written.append(save_figure(ax.figure, out / f"orbit_station{station}.png"))
+        written.append(save_figure(ax.figure, out / _figure_name(result, f"orbit_station{station}", f"x{station}")))
     for key, scale, unit in (("bending", 1e6, "µm"), ("torsion", 1e6, "µrad")):
         name = outputs.get(key)
         if name:
             ax = plot_signals(result, name, scale=scale, unit_label=unit)
-            written.append(save_figure(ax.figure, out / f"{name.replace('-', '_minus_')}.png"))
+            written.append(save_figure(ax.figure, out / _figure_name(result, name.replace('-', '_minus_'), name)))
     if measurement is not None:
         from ..plotting.sensors import write_sensor_outputs
 
         written += write_sensor_outputs(measurement, outputs, out, save_figure)
     return written
+
+
+def _figure_name(result, stem, signal):
+    """``<stem>.png``, built only from ``signal`` once it is known to be a signal of ``result`` (never a path)."""
+    from ..errors import ParameterError
+    from ..modelfile import check_signal
+
+    check_signal(signal, tuple(result.state_names), "figure signal")
+    if not stem.isidentifier():  # no separator, no dot: a name inside the folder
+        raise ParameterError(f"figure name {stem!r}: built from signal {signal!r}, it must be an identifier")
+    return f"{stem}.png"
 
 
 def figure_signals(outputs):

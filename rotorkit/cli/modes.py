@@ -1,6 +1,6 @@
 """``rotorkit modes``: modal analysis at the scene's operating point (log decrement, whirl, shapes)."""
 
-from .common import save_figure
+from .common import nonnegative_int, positive_int, save_figure
 from .linear_common import add_linear_arguments, compiled_scene, output_folder
 
 
@@ -8,9 +8,9 @@ def register(sub):
     p = sub.add_parser("modes", help="natural frequencies, damping, log decrement and whirl at one speed")
     add_linear_arguments(p)
     p.add_argument("--rub-engaged", action="store_true", help="linearise with the rub contact engaged along the sag")
-    p.add_argument("--shapes", type=int, default=4, help="number of mode-shape figures to write (default 4)")
-    p.add_argument("--cage-samples", type=int, default=16, help="cage positions averaged (default 16)")
-    p.add_argument("--modes", type=int, default=8, dest="n_modes",
+    p.add_argument("--shapes", type=nonnegative_int, default=4, help="number of mode-shape figures to write (default 4)")
+    p.add_argument("--cage-samples", type=positive_int, default=16, help="cage positions averaged (default 16)")
+    p.add_argument("--modes", type=positive_int, default=8, dest="n_modes",
                    help="number of modes printed (default 8; the CSV holds all)")
     p.set_defaults(func=main)
 

@@ -46,7 +46,7 @@ def _run(args, start, helper):
 
     _compile_integrator_ahead(args)  # first: it has the longest way to go, and the preset's import is its head start
     module, model, _ = load_preset(args)  # reads the scene (a model file names args.preset); derives nothing
-    out = check_output_folder(args.out or f"rotorkit-out/{args.preset}")  # before any derivation or run
+    out = check_output_folder(args.out if args.out is not None else f"rotorkit-out/{args.preset}")  # before any work
     outputs = getattr(module, "OUTPUTS", {})
     t_end = args.t_end if args.t_end is not None else outputs.get("t_end", 1.0)
     system = model.compile(backend=args.backend)

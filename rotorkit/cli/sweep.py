@@ -1,7 +1,6 @@
 """``rotorkit sweep``: an n-D parameter sweep (grid, list or Latin hypercube), local or on Dask, resumable."""
 
 import sys
-from pathlib import Path
 
 from ..errors import ParameterError
 from .common import check_parameter_name, parse_overrides, positive_float, positive_int, save_figure
@@ -67,6 +66,7 @@ def _space(args):
 
 
 def main(args):
+    from ..files import check_output_folder
     from ..plotting.maps import plot_bifurcation, plot_order_map, plot_status_map
     from ..plotting.spectra import plot_cascade, speed_orders
     from ..sweep import Cascade, Scene, run_sweep
@@ -80,7 +80,8 @@ def main(args):
     overrides = parse_overrides(args, known)
     # a model file travels to the workers as its elements (data), a preset by name
     scene = Scene.from_model(module.model, outputs=module.OUTPUTS) if isinstance(module, FileScene) else args.preset
-    out = Path(args.out or f"rotorkit-out/{args.preset}-sweep-{'-'.join(space.names)}")
+    out = args.out if args.out is not None else f"rotorkit-out/{args.preset}-sweep-{'-'.join(space.names)}"
+    out = check_output_folder(out, ours=False)  # '', a file or a device: refused before any run
 
     def progress(event):
         print(f"  {event}", file=sys.stderr, flush=True)

@@ -17,6 +17,10 @@ def main(args):
     from ..presets import preset_module
     from ..validation import Study, format_table
 
+    if args.out is not None:  # before the study's runs: a file, a device or '' is refused now
+        from ..files import check_output_folder
+
+        check_output_folder(args.out, ours=False)
     module = preset_module(args.preset)
     claims = getattr(module, "CLAIMS", ())
     if not claims:
@@ -33,7 +37,7 @@ def main(args):
     results = [claim(study) for claim in claims]
     table = format_table(results)
     print(table)
-    if args.out:
+    if args.out is not None:
         from ..files import atomic_write_text
 
         out = Path(args.out)

@@ -51,7 +51,7 @@ import types
 import warnings
 from pathlib import Path
 
-from ..files import atomic_write_bytes, atomic_write_text
+from ..files import atomic_write_bytes, atomic_write_text, read_data
 
 __all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "shared_lock", "shared_is_current"]
 
@@ -146,10 +146,10 @@ def _secret():
     """This user's random signing key (created on first use, mode 0600); OSError if it cannot be kept."""
     path = cache_dir() / "secret.key"
     try:
-        key = path.read_bytes()
+        key = read_data(path, what="cache metadata", max_bytes=64)
         if len(key) == 32 and _private(path) and not path.stat().st_mode & 0o077:
             return key
-    except OSError:
+    except (OSError, ValueError):  # ValueError: not a regular file, or too long
         pass
     if os.path.lexists(path):
         _remove(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
@@ -207,8 +207,8 @@ def load(key):
                        "it is removed and rebuilt", topic=("entry", str(entry)))
             _remove(entry)
             return None
-        meta = json.loads((entry / "meta.json").read_text(encoding="utf-8"))
-        source = (entry / "rhs.py").read_text(encoding="utf-8")
+        meta = json.loads(read_data(entry / "meta.json", what="cache metadata").decode("utf-8"))
+        source = read_data(entry / "rhs.py", what="cache entry").decode("utf-8")
     except (OSError, ValueError) as exc:  # unreadable, a file in place of a folder, not UTF-8, not JSON
         return _discard(key, exc)
     valid = (isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("key") == key
@@ -266,7 +266,7 @@ def _verify_numba_files(entry, folder=None):
     _private_dir(folder)
     secret = _secret()
     try:
-        signed = json.loads((entry / SIGNATURES).read_text(encoding="utf-8"))
+        signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
         signed = signed if isinstance(signed, dict) else {}
     except (OSError, ValueError):
         signed = {}
@@ -274,7 +274,11 @@ def _verify_numba_files(entry, folder=None):
     for path in folder.iterdir():
         good = False
         if path.is_file() and not path.is_symlink() and isinstance(signed.get(path.name), str):
-            good = hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, path.read_bytes()))
+            try:
+                data = read_data(path, what="cache entry")
+            except (OSError, ValueError):
+                data = None
+            good = data is not None and hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, data))
         if not good:
             _remove(path)
             removed.append(path.name)
@@ -403,12 +407,107 @@ def _lock_file(name, folder=None):
         import fcntl  # noqa: F401 - POSIX only
     except ImportError:
         return None
+    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
     try:
         path = Path(folder if folder is not None else _rebuilt_dir(cache_dir() / "shared")) / f"{name}.lock"
-        fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0), 0o600)
     except OSError:
         return None
-    return os.fdopen(fd, "r+b")
+    for _attempt in range(2):
+        try:
+            fd = os.open(path, flags, 0o600)
+        except OSError:
+            fd = None
+        if fd is not None and stat.S_ISREG(os.fstat(fd).st_mode):
+            os.set_blocking(fd, True)
+            return os.fdopen(fd, "r+b")
+        if fd is not None:
+            os.close(fd)
+        # a FIFO, a folder, a link or a device in place of the lock file: a damaged cache, repaired once
+        if not os.path.lexists(path):
+            return None
+        _warn_once(f"rotorkit cache: the lock file {path} was not a regular file; it is replaced",
+                   topic=("lock", str(path)))
+        try:
+            _remove(path)
+        except OSError:
+            return None
+    return None
+
+
+#: seconds a process waits for another that holds a build lock, before it builds without it
+LOCK_WAIT = float(os.environ.get("ROTORKIT_LOCK_WAIT", "600") or 600)
+#: seconds it waits for a holder that is stopped (Ctrl-Z, SIGSTOP)
+STOPPED_LOCK_WAIT = 10.0
+
+
+def _process_state(pid):
+    """``"running"``, ``"stopped"`` (Ctrl-Z, a debugger) or ``"gone"`` for ``pid``; ``"unknown"`` without /proc."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return "gone"
+    except OSError:
+        pass
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            state = fh.read(4096).rsplit(b")", 1)[1].split()[0]
+    except (OSError, IndexError):
+        return "unknown"
+    return "stopped" if state in (b"T", b"t") else "running"
+
+
+def _holder(handle):
+    """The pid written in a lock file by its holder, or None."""
+    try:
+        handle.seek(0)
+        text = handle.read(32).decode("ascii", "replace").strip()
+        return int(text) if text.isdigit() else None
+    except (OSError, ValueError):
+        return None
+
+
+def _wait_for_lock(handle, name, path, wait=None):
+    """Take the lock of ``handle``, waiting for its holder with a message naming it; False past the bound.
+
+    The bound is :data:`LOCK_WAIT` seconds, or :data:`STOPPED_LOCK_WAIT` once
+    the holder is seen stopped (Ctrl-Z): then the caller builds without the lock
+    rather than hang.
+    """
+    import fcntl
+    import time
+
+    wait = LOCK_WAIT if wait is None else wait
+    start = time.monotonic()
+    told, stopped_since = None, None
+    while True:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return True
+        except BlockingIOError:
+            pass
+        pid = _holder(handle)
+        state = _process_state(pid) if pid else "unknown"
+        now = time.monotonic()
+        if told != (pid, state) and (state == "stopped" or now - start > 2.0):  # a short wait goes unsaid
+            told = (pid, state)
+            who = f"process {pid}" if pid else "another process"
+            how = ("; it is stopped (Ctrl-Z or SIGSTOP: 'fg' or 'kill -CONT' resumes it)" if state == "stopped"
+                   else "")
+            sys.stderr.write(f"rotorkit: waiting for {who} to finish building {name} (it holds {path}){how}; "
+                             f"at most {STOPPED_LOCK_WAIT if state == 'stopped' else wait:g} s, then rotorkit "
+                             "builds without the lock\n")
+            sys.stderr.flush()
+        stopped_since = (stopped_since or now) if state == "stopped" else None
+        if now - start > wait or (stopped_since is not None and now - stopped_since > STOPPED_LOCK_WAIT):
+            _warn_once(f"rotorkit: {('process ' + str(pid)) if pid else 'another process'} has held the lock "
+                       f"{path} too long ({'stopped' if state == 'stopped' else f'over {wait:g} s'}); "
+                       f"building {name} without it", topic=("lock-wait", str(path)))
+            return False
+        time.sleep(0.05)
+
+
+def _lock_path(name, folder):
+    return Path(folder if folder is not None else cache_dir() / "shared") / f"{name}.lock"
 
 
 @contextlib.contextmanager
@@ -434,10 +533,21 @@ def shared_lock(name, *, blocking=True, folder=None):
 
     with handle:  # the lock is released when the file is closed (at the latest when the process exits)
         try:
-            fcntl.flock(handle, fcntl.LOCK_EX | (0 if blocking else fcntl.LOCK_NB))
-            locked = True
+            if blocking:
+                locked = _wait_for_lock(handle, name, _lock_path(name, folder))
+            else:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                locked = True
         except OSError:  # held elsewhere (non-blocking), or flock not supported by the file system
             locked = False
+        if locked:
+            try:  # the holder's pid, for the message of a process that waits
+                handle.seek(0)
+                handle.truncate()
+                handle.write(str(os.getpid()).encode())
+                handle.flush()
+            except OSError:
+                pass
         yield handle if locked else None
 
 
@@ -450,7 +560,7 @@ def shared_is_current(name, source):
     """
     try:
         entry = cache_dir() / "shared" / name
-        signed = json.loads((entry / SIGNATURES).read_text(encoding="utf-8"))
+        signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
         newest_source = os.stat(source).st_mtime
         index = [p for p in entry.glob("*/*.nbi") if p.name in signed]
         data = [p for p in entry.glob("*/*.nbc") if p.name in signed]

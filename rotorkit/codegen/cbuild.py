@@ -32,7 +32,7 @@ import tempfile
 from pathlib import Path
 
 from ..errors import RotorkitError
-from ..files import atomic_write_bytes, atomic_write_text
+from ..files import atomic_write_bytes, atomic_write_text, read_data
 
 __all__ = ["compiler", "library", "CompilerError", "FLAGS"]
 
@@ -70,8 +70,8 @@ def _verified(folder, name, source_bytes, secret):
     """The library's path if it is there, signed, and built from ``source_bytes``; else None."""
     lib, sig = folder / f"{name}.so", folder / f"{name}.sig.json"
     try:
-        signed = json.loads(sig.read_text(encoding="utf-8"))
-        data = lib.read_bytes()
+        signed = json.loads(read_data(sig, what="cache metadata").decode("utf-8"))
+        data = read_data(lib, what="cache entry")  # a FIFO or a link to /dev/zero is refused, not read
     except (OSError, ValueError):
         return None
     ok = (isinstance(signed, dict)
@@ -95,7 +95,12 @@ def _compile(folder, name, source_bytes, secret):
                                 f"{done.stderr.strip()[-4000:]}")
         os.chmod(tmp, 0o700)
         data = Path(tmp).read_bytes()
-        os.replace(tmp, folder / f"{name}.so")
+        target = folder / f"{name}.so"
+        if os.path.lexists(target) and (target.is_symlink() or not target.is_file()):
+            from . import cache
+
+            cache._remove(target)  # a folder or a FIFO in the library's place: a damaged cache, repaired
+        os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)

@@ -16,6 +16,13 @@ Python                        C
                               the first argument unless the second is
                               strictly smaller/larger; NaN as Python)
 ``a ** b``                    ``pow(a, b)``
+``a % b``                     ``rk_mod(a, b)`` (Python's rule: the sign
+                              of ``b``; CPython's ``float_rem``)
+``floor(x)``, ``ceil(x)``      ``(floor(x) + 0.0)``: Python's int has
+                              no -0.0
+``erf``, ``asinh``, ...       the C99 function of the same name
+                              (``gamma``, ``lgamma``: CPython's own
+                              algorithms, not libm's: not translated)
 ``lo <= t < hi``              ``(lo <= t) && (t < hi)``
 ``J[i, j]``                   ``J[i * N_STATES + j]``
 ============================  ======================================
@@ -32,7 +39,9 @@ __all__ = ["Untranslatable", "translate", "FUNCTIONS"]
 #: double *out)`` in C, the same signature as the integration loop's right-hand side (rotorkit.engines.rk_c)
 FUNCTIONS = ("rhs", "switches", "jac")
 
-_MATH = {"sin", "cos", "tan", "exp", "log", "sqrt", "atan2", "sinh", "cosh", "tanh", "asin", "acos", "atan"}
+_MATH = {"sin", "cos", "tan", "exp", "log", "sqrt", "atan2", "sinh", "cosh", "tanh", "asin", "acos", "atan",
+         "copysign", "erf", "erfc", "asinh", "acosh", "atanh", "log2", "log10", "log1p", "expm1", "fmod"}
+_ROUNDING = {"floor", "ceil"}
 _CALLS = {"min": "rk_min", "max": "rk_max", "abs": "fabs", "float": ""}
 _BINARY = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/"}
 _COMPARE = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==", ast.NotEq: "!="}
@@ -41,6 +50,13 @@ _PRELUDE = """\
 #include <math.h>
 static inline double rk_min(double a, double b) { return b < a ? b : a; }
 static inline double rk_max(double a, double b) { return b > a ? b : a; }
+static inline double rk_mod(double a, double b)  /* Python's a % b for floats (CPython float_rem) */
+{
+    double mod = fmod(a, b);
+    if (mod != 0.0) { if ((b < 0.0) != (mod < 0.0)) mod += b; }
+    else mod = copysign(0.0, b);
+    return mod;
+}
 """
 
 
@@ -104,6 +120,8 @@ class _Expressions:
     def _BinOp(self, node):
         if isinstance(node.op, ast.Pow):
             return f"pow({self(node.left)}, {self(node.right)})"
+        if isinstance(node.op, ast.Mod):
+            return f"rk_mod({self(node.left)}, {self(node.right)})"
         op = _BINARY.get(type(node.op))
         if op is None:
             raise Untranslatable(type(node.op).__name__)
@@ -132,6 +150,8 @@ class _Expressions:
         name, args = node.func.id, [self(a) for a in node.args]
         if name in _MATH:
             return f"{name}({', '.join(args)})"
+        if name in _ROUNDING and len(args) == 1:  # Python's floor(-0.0) is the int 0: +0.0 once a float
+            return f"({name}({args[0]}) + 0.0)"
         if name in ("min", "max") and len(args) >= 2:
             out = args[0]
             for a in args[1:]:

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from . import CODEGEN_MODES, STRUCTURED_FROM, codegen_mode  # noqa: F401 - importable from here as before
-from .printer import MATH_FUNCTIONS, RhsPrinter
+from .printer import EXTRA_MATH_FUNCTIONS, MATH_FUNCTIONS, RhsPrinter
 
 __all__ = ["GeneratedCode", "generate", "mass_blocks", "codegen_mode", "STRUCTURED_FROM"]
 
@@ -121,9 +121,9 @@ def _hoist(expr, params, table):
         return symbols(e) <= params
 
     def hoist(e):
-        if e.is_Atom:
+        if e.is_Atom or not symbols(e):  # a constant such as 100*pi stays as it is (hoisting it never ends)
             return e
-        if symbols(e) and fixed(e):
+        if fixed(e):
             if e not in table:
                 table[e] = sp.Symbol(f"_k{len(table)}", real=True)
             return table[e]
@@ -327,6 +327,21 @@ def module_header(structure_key, codegen, eom, *, q, u, params, derived, n_prepa
     ]
 
 
+def import_extra_math(source):
+    """``source`` with a second ``from math import ...`` line for the :data:`EXTRA_MATH_FUNCTIONS` it calls.
+
+    Only modules that call one (a user's speed expression with ``floor`` or
+    ``erf``) get the line: the others stay byte for byte as they were.
+    """
+    import re
+
+    used = [name for name in EXTRA_MATH_FUNCTIONS if re.search(rf"\b{name}\(", source)]
+    if not used:
+        return source
+    first = f"from math import {', '.join(MATH_FUNCTIONS)}"
+    return source.replace(first, f"{first}\nfrom math import {', '.join(used)}", 1)
+
+
 def generate(eom, structure_key="", jacobian=True, mode="auto"):
     """Generate the module source for ``eom``.
 
@@ -348,9 +363,12 @@ def generate(eom, structure_key="", jacobian=True, mode="auto"):
     GeneratedCode
     """
     if codegen_mode(eom.n, mode) == "structured":
+        import dataclasses
+
         from .structured import generate_structured
 
-        return generate_structured(eom, structure_key, jacobian)
+        code = generate_structured(eom, structure_key, jacobian)
+        return dataclasses.replace(code, source=import_extra_math(code.source))
     n = eom.n
     params = eom.parameters
     param_set = set(params)
@@ -480,5 +498,5 @@ def generate(eom, structure_key="", jacobian=True, mode="auto"):
 
     header = module_header(structure_key, "unrolled", eom, q=q, u=u, params=params, derived=derived,
                            n_prepared=n_prepared, jacobian=jacobian, n_switches=len(switch_exprs)) + [""]
-    source = "\n".join(header + prep + [""] + body + [""] + jac + [""] + sw + [""])
+    source = import_extra_math("\n".join(header + prep + [""] + body + [""] + jac + [""] + sw + [""]))
     return GeneratedCode(source=source, n_coordinates=n, n_parameters=n_params, n_derived=len(derived), blocks=blocks)

@@ -7,9 +7,13 @@ names imported from :mod:`math`.
 
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["RhsPrinter", "MATH_FUNCTIONS"]
+__all__ = ["RhsPrinter", "MATH_FUNCTIONS", "EXTRA_MATH_FUNCTIONS"]
 
 MATH_FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sqrt", "atan2", "sinh", "cosh", "tanh", "asin", "acos", "atan")
+#: further functions of :mod:`math` the printer can emit (floor, sign, erf, ... of a user's speed expression);
+#: a generated module imports those it uses on a second line, so modules that use none are unchanged
+EXTRA_MATH_FUNCTIONS = ("floor", "ceil", "copysign", "erf", "erfc", "gamma", "lgamma", "asinh", "acosh", "atanh",
+                        "log2", "log10", "log1p", "expm1", "fmod")
 
 
 class RhsPrinter(PythonCodePrinter):
@@ -96,3 +100,21 @@ class RhsPrinter(PythonCodePrinter):
 
     def _print_Pi(self, expr):
         return repr(3.141592653589793)
+
+    def _print_floor(self, expr):  # math.floor returns an int: a float, so the arithmetic stays in doubles
+        return f"float(floor({self._print(expr.args[0])}))"
+
+    def _print_ceiling(self, expr):
+        return f"float(ceil({self._print(expr.args[0])}))"
+
+    def _print_Exp1(self, expr):
+        return repr(2.718281828459045)
+
+    def _undefined(self, expr):
+        from ..errors import ParameterError
+
+        raise ParameterError(f"the equations hold {expr} (an undefined or infinite value, e.g. 1/0 or 0/0 in a "
+                             "SpeedProfile expression); the generated code cannot compute it: check the expressions "
+                             "of the model's speed profiles and loads")
+
+    _print_NaN = _print_ComplexInfinity = _print_Infinity = _print_NegativeInfinity = _undefined

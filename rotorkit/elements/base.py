@@ -165,6 +165,21 @@ class Element:
     #: LaTeX base letter per field, for rendering
     _latex_names: ClassVar[Mapping[str, str]] = {}
 
+    def __new__(cls, *args, **kwargs):
+        """Unknown keywords (``LinearBearing(kzz=...)``) are an error naming the fields, before ``__init__``."""
+        fields = getattr(cls, "__dataclass_fields__", None)
+        unknown = [k for k in kwargs if fields is not None and k not in fields]
+        if unknown:
+            import difflib
+
+            from ..errors import ArgumentTypeError
+
+            known = [f for f in fields if not f.startswith("_")]
+            near = difflib.get_close_matches(unknown[0], known, n=3)
+            hint = f"; did you mean {', '.join(near)}?" if near else ""
+            raise ArgumentTypeError(f"{cls.__name__}: unknown field {unknown[0]!r}{hint} (fields: {', '.join(known)})")
+        return object.__new__(cls)  # (no zero-argument super(): slots=True makes a new class)
+
     def __post_init__(self):
         if self.name is not None and (not isinstance(self.name, str) or not self.name.isidentifier()):
             raise ParameterError(

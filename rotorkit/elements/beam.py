@@ -122,6 +122,10 @@ def cowper_shear_coefficient(poisson_ratio, diameter_ratio):
     return 6 * (1 + nu) * (1 + m2) ** 2 / ((7 + 6 * nu) * (1 + m2) ** 2 + (20 + 12 * nu) * m2)
 
 
+#: most finite elements one BeamSegment is split into
+MAX_ELEMENTS = 2000
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class BeamSegment(Element):
     """A shaft segment of tubular cross-section as ``elements`` beam finite elements.
@@ -244,6 +248,12 @@ class BeamSegment(Element):
                 raise ParameterError(f"{who}: {f} = {getattr(self, f)!r}: expected True or False")
         if isinstance(self.elements, bool) or not isinstance(self.elements, int) or self.elements < 1:
             raise ParameterError(f"{who}: elements = {self.elements!r}: expected an int >= 1")
+        if self.elements > MAX_ELEMENTS:  # checked before any node, symbol or matrix exists
+            states = 2 * 5 * self.elements  # x, y, two tilts and a twist per node, and their rates
+            raise ParameterError(
+                f"{who}: elements = {self.elements}: about {states // 2} coordinates; a segment holds at most "
+                f"{MAX_ELEMENTS} elements (the dense state matrices of the linear analyses alone would take "
+                f"{8 * states**2 / 1e9:.3g} GB, and the derivation time grows with the count): use fewer elements")
         if self.shear_coefficient is not None and self.theory != "timoshenko":
             raise ParameterError(f"{who}: shear_coefficient is only used with theory='timoshenko'")
 

@@ -244,8 +244,18 @@ class SpeedProfile:
                 f"({', '.join(k for k, _ in self.constants) or 'none'}) and return a sympy expression; "
                 f"calling it failed: {exc}"
             ) from exc
+        if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+            raise ParameterError(f"SpeedProfile.expression: {what} gives {expr} (nan, zoo or oo: undefined or "
+                                 "infinite, e.g. 0/0 or 1/0); expected a finite speed expression of t")
         extra = expr.free_symbols - {t} - set(p.values())
         if extra:
             raise ParameterError(f"SpeedProfile.expression: {what} uses unknown symbols {sorted(map(str, extra))}; "
                                  "pass them in parameters={...}")
+        if what == "function":  # the equations hold Omega'(t): it must be a function the code can compute
+            slope = sp.diff(expr, t)
+            if slope.has(sp.Derivative, sp.Subs, sp.DiracDelta):
+                raise ParameterError(
+                    f"SpeedProfile.expression: the speed {expr} jumps (its derivative is {slope}); floor, ceiling, "
+                    "Mod, frac, sign and Heaviside make steps the equations of motion cannot hold. Write the "
+                    "change as a continuous expression (e.g. Piecewise of ramps) or use SpeedProfile.table")
         return expr

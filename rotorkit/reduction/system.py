@@ -292,7 +292,9 @@ def reduce(system_or_model, modes, *, keep=None, backend=None):
     """
     model = getattr(system_or_model, "model", system_or_model)
     if not hasattr(model, "structure_key") or not hasattr(model, "equations"):
-        raise TypeError(f"reduce: expected a rotorkit System or Model, got {type(system_or_model).__name__}")
+        from ..errors import ArgumentTypeError
+
+        raise ArgumentTypeError(f"reduce: expected a rotorkit System or Model, got {type(system_or_model).__name__}")
     if backend is None:
         backend = getattr(system_or_model, "backend", "auto")
         backend = "auto" if backend == "c" else backend  # the reduced code is matrices: not for the c back end

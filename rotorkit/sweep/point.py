@@ -72,12 +72,18 @@ def parse_order(text, rotors):
             raise ParameterError(f"order {text!r}: expected terms like '1/2', '3/2 LP' or 'HP - LP' "
                                  f"(rotors: {', '.join(rotors)})")
         sign = -1.0 if m.group(1) == "-" else 1.0
-        factor = float(Fraction(m.group(2))) if m.group(2) else 1.0
+        try:
+            factor = float(Fraction(m.group(2))) if m.group(2) else 1.0
+        except ZeroDivisionError:
+            raise ParameterError(f"order {text!r}: {m.group(2)!r} divides by zero; expected e.g. '1/2'") from None
         name = m.group(3) or rotors[0]
         if name not in rotors:
             raise ParameterError(f"order {text!r}: {name!r} is not a rotor of the model (rotors: {', '.join(rotors)})")
         out[name] = out.get(name, 0.0) + sign * factor
         pos, first = m.end(), False
+    if all(k <= 0 for k in out.values()):
+        raise ParameterError(f"order {text!r}: the order is not positive; expected e.g. '1', '1/2' or 'HP - LP' "
+                             "(a speed order is a positive multiple of a rotor speed, or a difference of speeds)")
     return out
 
 

@@ -225,7 +225,9 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
     points stored are not recomputed. With the ``spawn`` start method a
     script must guard its entry point with ``if __name__ == "__main__":``.
     """
-    out_dir = Path(out_dir)
+    from ..files import check_output_folder
+
+    out_dir = check_output_folder(out_dir, "out_dir", ours=False)  # a file, a device, '' or None: refused first
     scene = as_scene(scene, overrides)
     space = as_space(space, values, max_points)
     _check_names(scene, space)

@@ -23,6 +23,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import os
 import math
 from pathlib import Path
 
@@ -79,7 +80,9 @@ def write_point(out_dir, fingerprint_, result):
 def read_point(out_dir, index, fingerprint_, point, shapes):
     """(meta, arrays) of a valid point file of this sweep, or None (missing, damaged or another sweep's)."""
     try:
-        with np.load(point_path(out_dir, index), allow_pickle=False) as data:
+        from ..files import open_data
+
+        with open_data(point_path(out_dir, index), what="sweep point") as fh, np.load(fh, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
             arrays = {k: np.array(data[k], dtype=float) for k in _ARRAYS}
     except Exception:  # missing, truncated or foreign: whatever it is, the point is recomputed
@@ -104,9 +107,11 @@ def read_point(out_dir, index, fingerprint_, point, shapes):
 
 
 def read_manifest(out_dir):
-    path = Path(out_dir) / MANIFEST_NAME
+    from ..files import check_path, read_data
+
+    path = check_path(out_dir, "out_dir") / MANIFEST_NAME
     try:
-        manifest = json.loads(path.read_text(encoding="utf-8"))
+        manifest = json.loads(read_data(path, what="sweep manifest").decode("utf-8"))
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{out_dir} is not a sweep folder: cannot read {MANIFEST_NAME} ({exc})") from None
     if not isinstance(manifest, dict) or manifest.get("format") != MANIFEST_FORMAT:
@@ -132,11 +137,13 @@ def _differences(old, new, prefix=""):
 
 def check_manifest(out_dir, manifest):
     """True if ``out_dir`` holds this sweep's manifest, False if none; raises for another sweep's."""
+    from ..files import read_data
+
     path = Path(out_dir) / MANIFEST_NAME
-    if not path.exists():
+    if not os.path.lexists(path):
         return False
     try:
-        old = json.loads(path.read_text(encoding="utf-8"))
+        old = json.loads(read_data(path, what="sweep manifest").decode("utf-8"))
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{path} is unreadable ({exc}); delete it (or the folder) to start the sweep over") \
             from None

@@ -42,6 +42,12 @@ class Symbols:
             raise TopologyError(f"parameter {name!r} is not defined by any element") from None
 
 
+#: a model with more coordinates shows a summary in a notebook instead of its LaTeX
+MAX_DISPLAYED_COORDINATES = 40
+#: lines ``str(equations)`` prints at most
+MAX_PRINTED_LINES = 400
+
+
 @dataclass(frozen=True)
 class EquationsOfMotion:
     """The derived equations ``M(q, t) q'' = f(q, q', t)`` of one model structure.
@@ -147,12 +153,20 @@ class EquationsOfMotion:
         return "\\begin{gathered}\n" + " \\\\\n".join(lines) + "\n\\end{gathered}"
 
     def _repr_latex_(self):
+        if self.n > MAX_DISPLAYED_COORDINATES:  # a notebook shows the summary (repr) instead of pages of LaTeX
+            return None
         return "$$" + self.latex() + "$$"
+
+    def __repr__(self):
+        """A one-line summary, whatever the size (``str()`` lists the entries, :meth:`latex` renders them)."""
+        return (f"<EquationsOfMotion: {self.n} coordinates, {len(self.parameters)} parameters, "
+                f"{len(self.mass_matrix.todok())} non-zero mass entries, "
+                f"forces from {len(self.forces)} elements>")
 
     def __str__(self):
         q = [str(c) for c in self.coordinates]
         out = [f"Equations of motion, {self.n} coordinates: M(q, t) q'' + C q' + K q = F(q, q', t)",
-               f"q = [{', '.join(q)}]"]
+               f"q = [{', '.join(q) if len(q) <= 12 else ', '.join(q[:6]) + ', ..., ' + q[-1]}]"]
         for title, mat in (("M", self.mass_matrix), ("C", self.damping), ("K", self.stiffness)):
             out.append(f"\n{title} (nonzero entries, symmetric: upper triangle):")
             for (i, j), v in sorted(mat.todok().items()):
@@ -163,7 +177,43 @@ class EquationsOfMotion:
             for i, v in enumerate(vec):
                 if v != 0:
                     out.append(f"  F[{q[i]}] = {v}")
+        if len(out) > MAX_PRINTED_LINES:  # a model of thousands of coordinates: the start and a count
+            rest = len(out) - MAX_PRINTED_LINES
+            out = out[:MAX_PRINTED_LINES] + [f"... {rest} more entries (the matrices are mass_matrix, damping, "
+                                             "stiffness and forces)"]
         return "\n".join(out)
+
+
+#: functions trigsimp sees; every other function application is held as an opaque symbol while it works
+_TRIG = ("sin", "cos")
+
+
+def _trigsimp(expr):
+    """``sympy.trigsimp`` of ``expr`` over its sines and cosines only, so that it always ends.
+
+    trigsimp rewrites exponentials and other functions too, and on a user's
+    speed expression (``exp(1000*t)``, ``erf(100*t)``) it can search for
+    minutes. Here every applied function other than sin and cos (with
+    everything inside it) is replaced by a symbol first and put back after:
+    an expression with only sines and cosines (the presets) goes through
+    trigsimp exactly as before.
+    """
+    held = {}
+
+    def hold(e):
+        if e.is_Atom:
+            return e
+        if isinstance(e, sp.Function) and type(e).__name__ not in _TRIG or e.is_Pow and not e.exp.is_Number:
+            if e not in held:
+                held[e] = sp.Dummy(f"held{len(held)}")
+            return held[e]
+        args = tuple(hold(a) for a in e.args)
+        return e if all(a is b for a, b in zip(args, e.args)) else e.func(*args)
+
+    opaque = hold(expr)
+    if not held:
+        return sp.trigsimp(expr)
+    return sp.trigsimp(opaque).xreplace({d: e for e, d in held.items()})
 
 
 def _local(expr, index):
@@ -190,7 +240,7 @@ def _element_contribution(terms, q_index, u_index, qs, us, t):
             pfs = p.free_symbols
             for j in u_in:
                 if j >= i and us[j] in pfs:
-                    mij = sp.trigsimp(sp.expand(sp.diff(p, us[j])))
+                    mij = _trigsimp(sp.expand(sp.diff(p, us[j])))
                     if mij != 0:
                         mass[(i, j)] = mij
             rest = sp.diff(p, t) + sum((sp.diff(p, qs[k]) * us[k] for k in _local(p, q_index)), sp.S.Zero)
@@ -198,7 +248,7 @@ def _element_contribution(terms, q_index, u_index, qs, us, t):
         for i in _local(T, q_index):
             force[i] += sp.diff(T, qs[i])
         for i in list(force):
-            force[i] = sp.trigsimp(sp.expand(force[i]))
+            force[i] = _trigsimp(sp.expand(force[i]))
     V, D = sp.sympify(terms.potential), sp.sympify(terms.dissipation)
     for i in sorted(set(_local(V, q_index)) | set(_local(D, u_index))):
         if V != 0 and qs[i] in V.free_symbols:
