@@ -8,7 +8,7 @@ bearings exactly), one with contacts is linearised once (or, on request,
 at every speed). Modes are tracked
 from one speed to the next by the modal assurance criterion (MAC) of their
 shapes, ``|a^H b|^2 / (|a|^2 |b|^2)``, with an optimal assignment
-(:func:`scipy.optimize.linear_sum_assignment`), not by sorting frequencies:
+(:func:`rotorkit.analysis.roots.assignment`), not by sorting frequencies:
 a forward and a backward mode that cross keep their identity (their
 circular shapes are orthogonal).
 
@@ -335,7 +335,7 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
 
 def _match(previous_shapes, previous_freqs, modes, count):
     """Columns of ``modes`` continuing the tracked shapes (MAC, ties broken by frequency)."""
-    from scipy.optimize import linear_sum_assignment
+    from .roots import assignment
 
     k = len(modes)
     if previous_shapes is None:
@@ -347,7 +347,7 @@ def _match(previous_shapes, previous_freqs, modes, count):
         rel = np.abs(modes.damped_frequencies[None, :] - previous_freqs[:, None]) / np.maximum(
             np.abs(previous_freqs[:, None]), 1e-300)
     cost = (1.0 - M) + 0.1 * np.nan_to_num(np.minimum(rel, 10.0), nan=10.0)
-    rows, cols = linear_sum_assignment(cost)
+    rows, cols = assignment(cost)
     out = [None] * previous_shapes.shape[1]
     for r, c in zip(rows, cols):
         out[r] = int(c)
@@ -437,7 +437,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     >>> [(x.rotor, x.mode, round(x.speed, 6), x.whirl) for x in c.critical_speeds()]
     [('R', 1, 100.0, 'backward'), ('R', 2, 100.0, 'forward')]
     """
-    from scipy.optimize import brentq
+    from .roots import brent
 
     from .modes import DEFAULT_CAGE_SAMPLES
 
@@ -515,7 +515,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         if not refine:
             return a + (b - a) * ga / (ga - gb)
         try:
-            return brentq(lambda s: g(s, tracked(k, j, s)[0]), a, b, xtol=xtol, maxiter=60)
+            return brent(lambda s: g(s, tracked(k, j, s)[0]), a, b, xtol=xtol, maxiter=60)
         except ValueError:  # the re-tracked mode does not bracket: fall back on the grid
             return a + (b - a) * ga / (ga - gb)
 
