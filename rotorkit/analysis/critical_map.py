@@ -3,10 +3,13 @@
 For each support stiffness ``k`` the supports' ``x`` and ``y`` stiffness at
 the chosen stations is set to ``k`` on top of the rotor's own stiffness,
 damping is removed, and the critical speeds are where the forward (and
-backward) whirling modes meet the 1x line of their rotor: found with
-:func:`~rotorkit.analysis.campbell.campbell` (mode tracking and root
-finding), so gyroscopic stiffening is included. A rigid-support asymptote
-appears at large ``k``, the rigid-body modes ``~ sqrt(k)`` at small ``k``.
+backward) whirling modes meet the 1x line of their rotor, gyroscopic
+stiffening included. For one rotor spinning at the swept speed they are the
+roots of one generalised eigenproblem per stiffness, ``K Q = W^2 (M - i G) Q``
+(an undamped whirl whose frequency is the speed: exact, no speed grid); any
+other linear model is swept with :func:`~rotorkit.analysis.campbell.campbell`
+(mode tracking and root finding). A rigid-support asymptote appears at large
+``k``, the rigid-body modes ``~ sqrt(k)`` at small ``k``.
 """
 
 from __future__ import annotations
@@ -81,8 +84,60 @@ class CriticalSpeedMap:
         return plot_critical_speed_map(self, ax=ax, **kwargs)
 
 
+def _synchronous_form(rotor):
+    """``M - i G`` when the undamped synchronous whirl is one generalised eigenproblem, else None.
+
+    At a critical speed ``W`` an undamped whirl of frequency ``W`` exists: ``q = Re(Q e^{i W t})`` in
+    ``M q'' + W G q' + K q = 0`` gives ``K Q = W^2 (M - i G) Q``, linear in ``W^2`` when the rotor spins at
+    the swept speed itself and nothing else depends on it.
+    """
+    speeds = list(rotor.rotor_speeds.values())
+    if len(speeds) != 1 or rotor.speed_terms is not None:
+        return None
+    offset, ratio = (float(v) for v in speeds[0])  # rounding of the numerical spin-speed fit allowed
+    if abs(offset) > 1e-6 or abs(ratio - 1.0) > 1e-9:
+        return None
+    if rotor.circulatory is not None and np.any(np.asarray(rotor.circulatory) != 0):
+        return None
+    gyroscopic = np.zeros_like(rotor.mass) if rotor.gyroscopic is None else np.asarray(rotor.gyroscopic)
+    return np.asarray(rotor.mass, dtype=complex) - 1j * gyroscopic
+
+
+def _synchronous_criticals(rotor, mass, idx, k, lo, hi, count):
+    """(forward, backward) critical speeds in ``[lo, hi]``, the lowest ``count`` of each (NaN-padded)."""
+    from scipy import linalg
+
+    from .whirl import shape_whirl
+
+    K = np.array(rotor.stiffness, dtype=float)
+    K[idx, idx] += k
+    lam, vectors = linalg.eig(K, mass)
+    real = np.isfinite(lam) & (np.abs(lam.imag) <= 1e-9 * np.abs(lam)) & (lam.real > 0)
+    speeds = np.sqrt(lam.real[real])
+    vectors = vectors[:, real]
+    keep = (speeds >= lo) & (speeds <= hi)
+    speeds, vectors = speeds[keep], vectors[:, keep]
+    kinds = shape_whirl(vectors, tuple(rotor.coordinate_names), rotor.station_positions)[0] if speeds.size else []
+    order = np.argsort(speeds)
+    out = {"forward": [], "backward": []}
+    for i in order:
+        w = float(speeds[i])
+        twin = [j for j in order if j != i and abs(speeds[j] - w) <= 1e-9 * w]
+        # a double root (no gyroscopic split) whirls either way: a critical speed of both directions
+        for kind in (("forward", "backward") if twin else ("backward" if kinds[i] == "backward" else "forward",)):
+            if not any(abs(v - w) <= 1e-9 * w for v in out[kind]):
+                out[kind].append(w)
+    result = []
+    for kind in ("forward", "backward"):
+        row = np.full(count, np.nan)
+        found = out[kind][:count]
+        row[:len(found)] = found
+        result.append(row)
+    return result
+
+
 def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=4, n_speeds=60,
-                       bearing_curves=None):
+                       bearing_curves=None, method="auto"):
     """Undamped critical speeds of ``rotor`` on supports of stiffness ``k`` at ``supports``.
 
     Parameters
@@ -104,6 +159,14 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
         root finding).
     bearing_curves : dict, optional
         Label -> ``(speeds, stiffness)`` of speed-dependent bearings, overlaid.
+    method : {"auto", "synchronous", "campbell"}
+        ``"synchronous"``: the critical speeds at each stiffness are the roots
+        of one generalised eigenproblem, ``K Q = W^2 (M - i G) Q`` (an undamped
+        whirl at the frequency ``W`` of the rotor speed ``W``: exact, no speed
+        grid; one rotor spinning at the swept speed, no circulatory or
+        speed-dependent terms). ``"campbell"``: a Campbell diagram per
+        stiffness over ``n_speeds`` speeds, crossings by root finding (any
+        linear model). ``"auto"``: synchronous where it applies.
 
     Returns
     -------
@@ -130,6 +193,18 @@ def critical_speed_map(rotor, supports, stiffnesses, speed_range, *, n_critical=
     grid = np.linspace(lo, hi, int(n_speeds))
     fwd = np.full((k.size, int(n_critical)), np.nan)
     bwd = np.full((k.size, int(n_critical)), np.nan)
+    if method not in ("auto", "synchronous", "campbell"):
+        raise ParameterError(f"method={method!r} is unknown: expected 'auto', 'synchronous' or 'campbell'")
+    synchronous = _synchronous_form(rotor)
+    if method == "synchronous" and synchronous is None:
+        raise ParameterError("method='synchronous' needs one rotor spinning at the swept speed (ratio 1, no "
+                             "offset), no circulatory terms and no speed-dependent coefficients; use 'campbell'")
+    if method != "campbell" and synchronous is not None:
+        for a, value in enumerate(k):
+            fwd[a], bwd[a] = _synchronous_criticals(rotor, synchronous, idx, value, lo, hi, int(n_critical))
+        k.setflags(write=False)
+        return CriticalSpeedMap(stiffnesses=k, speeds=fwd, backward=bwd, supports=stations,
+                                bearing_curves=dict(bearing_curves or {}))
     n_modes = min(rotor.n, 2 * int(n_critical) + 2)
     for a, value in enumerate(k):
         K = np.array(rotor.stiffness)
