@@ -392,13 +392,13 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     **fields
         Further :class:`Modes` fields (operating point, sample times, speed ...).
     """
-    from scipy import linalg
-
     n = len(names)
     n_modes = _check_count(n_modes)
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
         eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
     elif left:
+        from scipy import linalg  # only here: a right-only solve (Campbell) needs numpy alone
+
         eigenvalues, wl, vr = linalg.eig(A, left=True, right=True)
     else:
         eigenvalues, vr = np.linalg.eig(A)
