@@ -570,7 +570,10 @@ def _check_arguments(system, t_span, sample_rate, rtol, atol, max_step, time_lim
     if not t1 > t0:
         raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
     sample_rate = _number(sample_rate, "sample_rate", "a rate > 0 in Hz")
-    _check_memory(system, t1 - t0, sample_rate)  # first: its message gives the memory the samples need
+    if (t1 - t0) * sample_rate > 1e9:  # absurd counts (a span of 1e300 s): named by the span, before any estimate
+        raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives more than 1e9 samples; "
+                             "lower the sample rate or the span")
+    _check_memory(system, t1 - t0, sample_rate)  # then the memory the samples need, then their count
     if (t1 - t0) * sample_rate > MAX_SAMPLES:
         n, need = (t1 - t0) * sample_rate, sample_memory(system.n_states, t1 - t0, sample_rate)
         raise ParameterError(f"t_span=({t0:g}, {t1:g}) at sample_rate={sample_rate!r} gives {n:.3g} samples, more "
