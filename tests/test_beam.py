@@ -64,14 +64,15 @@ class AxisSupport(Element):
 def linear(model):
     """(M, K, C + G, F) of the derived equations at q = q' = 0 with the parameter values."""
     eom = model.equations()
-    vals = [model.parameters[str(p)] for p in eom.parameters]
+    # the parameter values go in before differentiating (the same numbers, and sympy differentiates
+    # numeric coefficients much faster than products of parameter symbols)
+    values = {p: sp.Float(model.parameters[str(p)]) for p in eom.parameters}
     zero = {s: 0 for s in eom.coordinates + eom.speeds}
-    f = eom.forcing.subs(eom.t, 0)
-    args = eom.parameters
-    M = np.array(sp.lambdify(args, sp.Matrix(eom.mass_matrix).subs(zero))(*vals), dtype=float)
-    K = -np.array(sp.lambdify(args, f.jacobian(eom.coordinates).subs(zero))(*vals), dtype=float)
-    C = -np.array(sp.lambdify(args, f.jacobian(eom.speeds).subs(zero))(*vals), dtype=float)
-    F = np.array(sp.lambdify(args, f.subs(zero))(*vals), dtype=float).ravel()
+    f = eom.forcing.subs(eom.t, 0).xreplace(values)
+    M = np.array(sp.Matrix(eom.mass_matrix).xreplace(values).xreplace(zero), dtype=float)
+    K = -np.array(f.jacobian(eom.coordinates).xreplace(zero), dtype=float)
+    C = -np.array(f.jacobian(eom.speeds).xreplace(zero), dtype=float)
+    F = np.array(f.xreplace(zero), dtype=float).ravel()
     return M, K, C, F
 
 
