@@ -39,3 +39,28 @@ def test_intershaft_rub_on_a_still_outer_rotor_is_a_rub_stator(speed):
         assert b.harmonic_amplitude("x1", k)[0] == pytest.approx(a.harmonic_amplitude("x1", k)[0], rel=1e-4,
                                                                   abs=1e-6 * ra)
     assert b.max_radius(9)[0] < 1e-9  # the outer station hardly moves
+
+
+def test_journal_bearing_unbalance_orbit_equals_the_settled_time_run():
+    """A rigid unbalanced rotor on a short journal bearing under gravity, below the whip threshold: the
+    harmonic-balance orbit (about the off-centre equilibrium) is the orbit a long time run settles on."""
+    from rotorkit.analysis.linearize import static_equilibrium
+
+    speed = 600.0  # rad/s; the whip threshold of this bearing (tests/test_journal_bearing.py) is higher
+    model = rk.Model([rk.Rotor(name="R", stations=(1,), speed=speed),
+                      rk.Disk(station=1, mass=50.0, radius=0.1, eccentricity=4e-6),
+                      rk.JournalBearing(station=1, radius=0.025, length=0.02, clearance=5e-5, viscosity=0.02),
+                      rk.Maneuver.steady(gravity=9.81)], name="journal_hb")
+    system = model.compile(backend="python")
+    branch = periodic_solution(system, harmonics=8, speed_parameter="R_speed", stability="monodromy")
+    assert branch.stable[0]
+    q = static_equilibrium(system, tol=1e-12)
+    period = 2 * np.pi / speed
+    run = rk.simulate(system, (0.0, 400 * period), y0=[q[0], q[1], 0.0, 0.0], sample_rate=200 * speed / np.pi,
+                      rtol=1e-10, atol=1e-15)
+    last = run.t > 390 * period
+    radius = np.hypot(run["x1"][last], run["y1"][last])
+    assert radius.max() == pytest.approx(branch.max_radius(1)[0], rel=1e-3)
+    mean_x, mean_y = run["x1"][last].mean(), run["y1"][last].mean()
+    assert np.hypot(mean_x, mean_y) == pytest.approx(abs(complex(*[branch.harmonic_amplitude(c, 0)[0]
+                                                                   for c in ("x1", "y1")])), rel=1e-3)
