@@ -36,7 +36,7 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["LinearMatrices", "linear_evaluator", "linear_matrices", "symbolic_linear_evaluator", "element_forces",
+__all__ = ["shaft_edges", "walk_positions", "LinearMatrices", "linear_evaluator", "linear_matrices", "symbolic_linear_evaluator", "element_forces",
            "linear_static_deflection",
            "frozen_speed_model", "rotor_spin_speeds", "station_positions"]
 
@@ -517,6 +517,19 @@ def station_positions(model):
     Each rotor's first station is at 0; a beam segment's nodes are equally
     spaced over its length. Stations no length reaches are left out.
     """
+    edges = shaft_edges(model)
+    if not edges:
+        return None
+    positions = {}
+    for station in map(str, model.stations):
+        if station not in positions and station in edges:
+            positions[station] = 0.0
+            walk_positions(station, edges, positions)
+    return positions
+
+
+def shaft_edges(model):
+    """Station (str) -> ``[(neighbour, signed length m)]`` of every beam or shaft segment with a length."""
     edges = {}
     for e in model.elements:
         length = getattr(e, "length", None)
@@ -525,20 +538,19 @@ def station_positions(model):
         nodes = e.nodes() if hasattr(e, "nodes") else (e.start, e.end)
         step = float(length) / (len(nodes) - 1)
         for a, b in zip(nodes, nodes[1:]):
-            edges.setdefault(a, []).append((b, step))
-            edges.setdefault(b, []).append((a, -step))
-    if not edges:
-        return None
-    positions = {}
-    for station in model.stations:
-        if station in positions or station not in edges:
-            continue
-        positions[station] = 0.0
-        stack = [station]
-        while stack:
-            a = stack.pop()
-            for b, step in edges.get(a, ()):
-                if b not in positions:
-                    positions[b] = positions[a] + step
-                    stack.append(b)
-    return {str(s): z for s, z in positions.items()}
+            edges.setdefault(str(a), []).append((str(b), step))
+            edges.setdefault(str(b), []).append((str(a), -step))
+    return edges
+
+
+def walk_positions(start, edges, positions):
+    """Place every station reachable from ``start`` (already in ``positions``) along ``edges``; the list of them."""
+    stack, reached = [start], []
+    while stack:
+        a = stack.pop()
+        for b, step in edges.get(a, ()):
+            if b not in positions:
+                positions[b] = positions[a] + step
+                reached.append(b)
+                stack.append(b)
+    return reached

@@ -48,32 +48,6 @@ class RotorLayout:
         return max(self.positions.values()) - min(self.positions.values()) if self.positions else 0.0
 
 
-def _edges(model):
-    """Station -> [(neighbour, signed length)] of every beam or shaft with a length."""
-    edges = {}
-    for e in model.elements:
-        length = getattr(e, "length", None)
-        if length is None or not hasattr(e, "start") or not hasattr(e, "end"):
-            continue
-        nodes = e.nodes() if hasattr(e, "nodes") else (e.start, e.end)
-        step = float(length) / (len(nodes) - 1)
-        for a, b in zip(nodes, nodes[1:]):
-            edges.setdefault(str(a), []).append((str(b), step))
-            edges.setdefault(str(b), []).append((str(a), -step))
-    return edges
-
-
-def _walk(start, edges, positions, component, index):
-    stack = [start]
-    while stack:
-        a = stack.pop()
-        for b, step in edges.get(a, ()):
-            if b not in positions:
-                positions[b] = positions[a] + step
-                component[b] = index
-                stack.append(b)
-
-
 def _rotor_name(model, station):
     for candidate in (station, _as_int(station)):
         try:
@@ -93,7 +67,9 @@ def _as_int(text):
 def rotor_layout(model):
     """The :class:`RotorLayout` of a :class:`~rotorkit.Model` (a System's ``.model``)."""
     model = getattr(model, "model", model)
-    edges = _edges(model)
+    from ..analysis.linear_matrices import shaft_edges, walk_positions
+
+    edges = shaft_edges(model)
     stations = [str(s) for s in model.stations]
     positions, component = {}, {}
     for s in stations + sorted(edges):
@@ -101,7 +77,7 @@ def rotor_layout(model):
             continue
         index = len(set(component.values()))
         positions[s], component[s] = 0.0, index
-        _walk(s, edges, positions, component, index)
+        component.update(dict.fromkeys(walk_positions(s, edges, positions), index))
     # place the pieces: an element linking stations of two pieces (an inter-shaft bearing) puts them together
     links = []
     for e in model.elements:
