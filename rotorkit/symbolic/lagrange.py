@@ -498,18 +498,23 @@ def element_matrices(model):
             force = dict(force)
             for form in terms.quadratic:
                 _add_quadratic(form, q_index, M, K, C, force, None, t)
-            for (i, j), mij in mass.items():
-                _add(M, (i, j), mij)
-                if i != j:
-                    _add(M, (j, i), mij)
-            for (i, j), v in Ke.items():
-                _add(K, (i, j), v)
-            for (i, j), v in Ce.items():
-                _add(C, (i, j), v)
+            _add_blocks(mass, Ke, Ce, M, K, C)
             yield (element, bound.p, *({k: sp.Add(*v) for k, v in A.items()} for A in (M, K, C)),
                    {i: v for i, v in force.items() if v != 0})
 
     return symbols, contributions()
+
+
+def _add_blocks(mass, stiffness, damping, M, K, C):
+    """Add an element's mass (upper triangle, mirrored), stiffness and damping entries to the sums."""
+    for (i, j), mij in mass.items():
+        _add(M, (i, j), mij)
+        if i != j:
+            _add(M, (j, i), mij)
+    for (i, j), v in stiffness.items():
+        _add(K, (i, j), v)
+    for (i, j), v in damping.items():
+        _add(C, (i, j), v)
 
 
 def _derive(model):
@@ -543,14 +548,7 @@ def _derive(model):
             for form in terms.quadratic:
                 form = _state_gyroscopics(form, templates, set(us), M, force, totals)
                 _add_quadratic(form, q_index, M, K, C, force, totals, t)
-        for (i, j), mij in mass.items():
-            _add(M, (i, j), mij)
-            if i != j:
-                _add(M, (j, i), mij)
-        for (i, j), v in Ke.items():
-            _add(K, (i, j), v)
-        for (i, j), v in Ce.items():
-            _add(C, (i, j), v)
+        _add_blocks(mass, Ke, Ce, M, K, C)
         if force:
             forces[element.label()] = _sparse(n, 1, {(i, 0): [v] for i, v in force.items()})
             for i, v in force.items():
