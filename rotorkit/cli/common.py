@@ -92,30 +92,27 @@ def positive_float(text):
     return value
 
 
-def positive_int(text):
-    """argparse type: an integer >= 1."""
-    import argparse
+def _integer_at_least(minimum, name):
+    """An argparse type: an integer >= ``minimum``."""
 
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r}: expected an integer >= 1")
-    return value
+    def parse(text):
+        import argparse
+
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{text!r}: expected an integer >= {minimum}")
+        return value
+
+    parse.__name__ = parse.__qualname__ = name
+    parse.__doc__ = f"argparse type: an integer >= {minimum}."
+    return parse
 
 
-def nonnegative_int(text):
-    """argparse type: an integer >= 0."""
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"{text!r}: expected an integer >= 0")
-    return value
+positive_int = _integer_at_least(1, "positive_int")
+nonnegative_int = _integer_at_least(0, "nonnegative_int")
 
 
 def add_scene_arguments(parser):
