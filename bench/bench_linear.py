@@ -35,9 +35,9 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from rotorkit.analysis.campbell import campbell  # noqa: E402
-from rotorkit.analysis.linear_model import LinearModel  # noqa: E402
-from rotorkit.analysis.unbalance import Unbalance, unbalance_response  # noqa: E402
+from rotorkit.linear.campbell import campbell  # noqa: E402
+from rotorkit.linear.linear_model import LinearModel  # noqa: E402
+from rotorkit.linear.unbalance import Unbalance, unbalance_response  # noqa: E402
 
 
 def beam_rotor(nodes=100, length=1.5, diameter=0.05, E=2.1e11, rho=7800.0):

@@ -55,26 +55,26 @@ FILE = ROOT / "examples" / "compressor.toml"
 _LOAD = "import numpy as np, rotorkit as rk\nmodel = rk.load_model({file!r})\n"
 TASKS = {
     "campbell": _LOAD + (
-        "from rotorkit.analysis.campbell import campbell\n"
+        "from rotorkit.linear.campbell import campbell\n"
         "diagram = campbell(model, np.linspace(0.0, 1600.0, 33), n_modes=6)\n"
         "assert len(diagram.speeds) == 33\n"),
     "map": _LOAD + (
         "from rotorkit import ElasticSupport, Model\n"
         "from rotorkit.elements import LinearBearing\n"
-        "from rotorkit.analysis.linear_model import linear_model\n"
-        "from rotorkit.analysis.critical_map import critical_speed_map\n"
+        "from rotorkit.linear.linear_model import linear_model\n"
+        "from rotorkit.linear.critical_map import critical_speed_map\n"
         "shaft = Model([e for e in model.elements if not isinstance(e, LinearBearing)]\n"
         "              + [ElasticSupport(station=s, stiffness=1.0) for s in (3, 18)], name='compressor_shaft')\n"
         "result = critical_speed_map(linear_model(shaft), supports=(3, 18), stiffnesses=np.logspace(6, 10, 13),\n"
         "                            speed_range=(0.0, 1600.0), n_speeds=50)\n"
         "assert result.speeds.shape[0] == 13\n"),
     "unbalance": _LOAD + (
-        "from rotorkit.analysis.unbalance import Unbalance, unbalance_response\n"
+        "from rotorkit.linear.unbalance import Unbalance, unbalance_response\n"
         "response = unbalance_response(model, [Unbalance(station=8, magnitude=1.5e-3)],\n"
         "                              np.linspace(10.0, 1600.0, 600))\n"
         "assert response.components['R'].shape == (600, 80)\n"),
     "static": _LOAD + (
-        "from rotorkit.analysis.static import static_deflection\n"
+        "from rotorkit.linear.static import static_deflection\n"
         "result = static_deflection(model)\n"
         "assert result.deflection['y10'] < 0\n"),
     "load": _LOAD,

@@ -32,12 +32,12 @@ sys.path.insert(0, str(ROOT / "examples"))
 
 from rotorkit import Maneuver, Model  # noqa: E402
 from rotorkit.elements import LinearBearing  # noqa: E402
-from rotorkit.analysis.campbell import campbell  # noqa: E402
-from rotorkit.analysis.critical_map import critical_speed_map  # noqa: E402
-from rotorkit.analysis.frf import frequency_response  # noqa: E402
-from rotorkit.analysis.linear_model import LinearModel, linear_model  # noqa: E402
-from rotorkit.analysis.static import static_deflection  # noqa: E402
-from rotorkit.analysis.unbalance import Unbalance, unbalance_response  # noqa: E402
+from rotorkit.linear.campbell import campbell  # noqa: E402
+from rotorkit.linear.critical_map import critical_speed_map  # noqa: E402
+from rotorkit.linear.frf import frequency_response  # noqa: E402
+from rotorkit.linear.linear_model import LinearModel, linear_model  # noqa: E402
+from rotorkit.linear.static import static_deflection  # noqa: E402
+from rotorkit.linear.unbalance import Unbalance, unbalance_response  # noqa: E402
 
 KXX, KYY, DAMPING = 1e6, 0.8e6, 100.0
 SPEEDS = np.linspace(0.0, 450.0, 46)  # rad/s, about 0-4300 rpm

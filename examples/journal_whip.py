@@ -16,8 +16,8 @@ import argparse
 import numpy as np
 
 import rotorkit as rk
-from rotorkit.analysis.linearize import static_equilibrium
-from rotorkit.analysis.modes import campbell
+from rotorkit.linear.linearize import static_equilibrium
+from rotorkit.linear.campbell import campbell
 from rotorkit.elements import LumpedMass, SpeedProfile
 
 MASS, GRAVITY = 50.0, 9.81  # kg, m/s^2

@@ -27,7 +27,7 @@ import numpy as np
 
 import rotorkit as rk
 from rotorkit.analysis.loads import maneuver_load
-from rotorkit.analysis.signals import highpass, stft
+from rotorkit.signals import highpass, stft
 from rotorkit.plotting.spectra import plot_cascade, plot_spectrogram, plot_waterfall, speed_orders
 from rotorkit.sweep import Cascade, run_sweep
 
@@ -133,7 +133,7 @@ def campbell(out, **_):
     positions averaged); the rub contact is engaged along the gravity sag, so
     its friction coupling shows in the log decrements.
     """
-    from rotorkit.analysis.campbell import campbell as campbell_diagram
+    from rotorkit.linear.campbell import campbell as campbell_diagram
 
     diagram = campbell_diagram(rk.preset("al31f"), np.linspace(200.0, 3000.0, 15), n_modes=6, rub_engaged=True)
     print(diagram.table())

@@ -162,7 +162,7 @@ def _orders(speed, ratio):
 def _omega_b(study):
     """Lowest bending natural frequency, free and with the rub engaged (rad/s): computed, not assumed."""
     if not hasattr(study, "_omega_b"):
-        from rotorkit.analysis.modes import natural_frequencies
+        from rotorkit.linear.modes import natural_frequencies
 
         system = build().compile()
         free = natural_frequencies(system).frequencies[0]

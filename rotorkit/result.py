@@ -98,9 +98,9 @@ class Result:
     def spectrum(self, name, window=None, highpass=None, units="rad/s"):
         """Amplitude spectrum of a signal over ``window`` (s), after an optional zero-phase high-pass (Hz).
 
-        See :func:`rotorkit.analysis.signals.amplitude_spectrum`; returns a ``Spectrum``.
+        See :func:`rotorkit.signals.amplitude_spectrum`; returns a ``Spectrum``.
         """
-        from .analysis.signals import amplitude_spectrum, highpass as high_pass
+        from .signals import amplitude_spectrum, highpass as high_pass
 
         x = self[name] if highpass is None else high_pass(self.t, self[name], highpass)
         return amplitude_spectrum(self.t, x, window=window, units=units)

@@ -120,16 +120,16 @@ class SensorSignal:
             a.setflags(write=False)
 
     def highpass(self, cutoff=2.0, order=4):
-        """The signal after the zero-phase Butterworth high-pass of :func:`rotorkit.analysis.signals.highpass`
+        """The signal after the zero-phase Butterworth high-pass of :func:`rotorkit.signals.highpass`
         (``cutoff`` in Hz; the paper uses 2 Hz)."""
-        from .analysis.signals import highpass
+        from .signals import highpass
 
         return SensorSignal(self.name, self.t, highpass(self.t, self.values, cutoff, order), self.unit,
                             self.sample_rate)
 
     def spectrum(self, window=None, highpass=None, units="rad/s"):
         """Amplitude spectrum (in ``self.unit``) over ``window`` (s), after an optional high-pass (Hz)."""
-        from .analysis.signals import amplitude_spectrum
+        from .signals import amplitude_spectrum
 
         x = self if highpass is None else self.highpass(highpass)
         return amplitude_spectrum(x.t, x.values, window=window, units=units)

@@ -285,6 +285,10 @@ def _is_quantity(value):
     return hasattr(value, "magnitude") and hasattr(value, "to") and hasattr(value, "dimensionality")
 
 
+#: True for a pint quantity (duck-typed, so pint is not imported); public for other modules
+is_quantity = _is_quantity
+
+
 def to_si(value, unit, name, *, sign=None, allow_none=False):
     """Convert ``value`` to a float in the SI ``unit``, checking dimension and sign.
 

@@ -56,7 +56,7 @@ def initial_state(system, start=None):
         from .errors import ParameterError
 
         raise ParameterError(f"start={start!r}: expected None or 'equilibrium'")
-    from .analysis.modes import static_equilibrium
+    from .linear.linearize import static_equilibrium
 
     q = static_equilibrium(system)
     return np.concatenate([q, np.zeros_like(q)])

@@ -362,10 +362,10 @@ def test_a_point_stores_the_spectra_and_peak_of_a_direct_run(tmp_path):
 @pytest.mark.parametrize("taper", ["hann", "hamming", "boxcar"])
 def test_taper_response_closed_form_against_the_direct_sum(n, n_fft, taper):
     """The tone table's response (Dirichlet kernels for Hann) against sum_k w_k exp(-2 pi i d k / n_fft)."""
-    from rotorkit.analysis.signals import _taper_weights
+    from rotorkit.signals.sampling import taper_weights
     from rotorkit.sweep.point import taper_response
 
     delta = np.linspace(0.0, 1.0, 41)
-    _, w = _taper_weights(taper, n)
+    _, w = taper_weights(taper, n)
     direct = np.abs(np.exp(-2j * np.pi * np.outer(delta, np.arange(n)) / n_fft) @ w) / w.sum()
     np.testing.assert_allclose(taper_response(taper, n, n_fft, delta), direct, rtol=0, atol=1e-12)

@@ -14,7 +14,7 @@ def register(sub):
 
 
 def main(args):
-    from ..analysis.campbell import campbell
+    from ..linear.campbell import campbell
 
     given = parse_speeds(args.speeds, None) if args.speeds is not None else None  # checked before deriving
     system, parameter = compiled_scene(args)

@@ -78,7 +78,7 @@ def parse_speeds(text, default_top):
     start, stop = (_speed_bound(p, unit, f"--speeds {text!r}") for p in parts[:2])
     if not (count >= 2 and stop > start >= 0):
         raise ParameterError(f"--speeds {text!r}: expected 0 <= START < STOP and COUNT >= 2")
-    from ..analysis.campbell import MAX_SPEEDS
+    from ..linear.campbell import MAX_SPEEDS
 
     if count > MAX_SPEEDS:  # before the array is made: 1e8 speeds would be 800 MB and days of eigen-solutions
         raise ParameterError(f"--speeds {text!r}: COUNT = {count} speeds, more than {MAX_SPEEDS} (each an "

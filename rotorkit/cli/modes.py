@@ -16,7 +16,7 @@ def register(sub):
 
 
 def main(args):
-    from ..analysis.modes import natural_frequencies
+    from ..linear.modes import natural_frequencies
 
     system, parameter = compiled_scene(args)
     modes = natural_frequencies(system, rub_engaged=True if args.rub_engaged else None,

@@ -14,7 +14,7 @@ def register(sub):
 
 
 def main(args):
-    from ..analysis.static import static_deflection
+    from ..linear.static import static_deflection
 
     from ..units import display_factor, to_si
 

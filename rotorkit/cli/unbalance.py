@@ -55,8 +55,8 @@ def _disk_unbalances(system):
 
 
 def main(args):
-    from ..analysis.linear_model import linear_model
-    from ..analysis.unbalance import unbalance_response
+    from ..linear.linear_model import linear_model
+    from ..linear.unbalance import unbalance_response
 
     items = [_parse(u) for u in args.unbalance]  # the options are checked before deriving
     given = parse_speeds(args.speeds, None) if args.speeds is not None else None

@@ -244,7 +244,7 @@ class JournalBearing(Element):
         BearingOperatingPoint
             The eight coefficients are the derivatives of the film force expressions used in the equations
             of motion, at ``(x, y)`` with zero velocity (the model's own analytic Jacobian gives the same:
-            :func:`rotorkit.analysis.linearize.linearize`).
+            :func:`rotorkit.linear.linearize.linearize`).
         """
         import sympy as sp
 

@@ -394,11 +394,11 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         from ``W0``).
     """
     from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
-    from .linearize import _check_system
+    from .linearize import check_system
     from .modes import DEFAULT_CAGE_SAMPLES, averaged_jacobian
 
     if not (hasattr(system, "compile") and hasattr(system, "equations")):
-        _check_system(system, "linear_model")
+        check_system(system, "linear_model")
     model, speed_parameter = frozen_system(system, speed_parameter, speed, t)
     values = model.parameters
     w0 = values[speed_parameter] if speed is None else _speed(speed)

@@ -25,7 +25,9 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["static_equilibrium", "linearize"]
+__all__ = ["static_equilibrium", "linearize", "check_system", "check_time", "check_coordinates", "without_unbalance",
+           "sample_times", "rub_stators", "difference_steps", "DEFAULT_RELATIVE_STEP", "DEFAULT_CAGE_SAMPLES",
+           "DEFAULT_EQUILIBRIUM_TOL"]
 
 #: Default relative finite-difference step (about the cube root of the machine epsilon).
 DEFAULT_RELATIVE_STEP = 1e-6
@@ -40,19 +42,19 @@ DEFAULT_EQUILIBRIUM_TOL = 1e-9
 ROUNDING_FACTOR = 16
 
 
-def _check_system(system, who):
+def check_system(system, who):
     if not (hasattr(system, "rhs") and hasattr(system, "coordinate_names") and hasattr(system, "state_names")):
         hint = "; compile it first: model.compile()" if hasattr(system, "compile") else ""
         raise TypeError(f"{who}: expected a compiled rotorkit System, got {type(system).__name__}{hint}")
 
 
-def _check_time(t, name="t"):
+def check_time(t, name="t"):
     if isinstance(t, bool) or not isinstance(t, numbers.Real) or not math.isfinite(t):
         raise ParameterError(f"{name}={t!r} is invalid: expected a finite time (s)")
     return float(t)
 
 
-def _check_coordinates(q, n, name="q"):
+def check_coordinates(q, n, name="q"):
     try:
         arr = np.array(q, dtype=float)
     except (TypeError, ValueError) as exc:
@@ -68,7 +70,7 @@ def _is_angle(name):
     return name.startswith("alpha")
 
 
-def _without_unbalance(system):
+def without_unbalance(system):
     """``system`` with every disk eccentricity (``*_eccentricity``) set to 0 (itself if all are 0)."""
     zeros = {name: 0.0 for name, v in system.parameters.items() if name.endswith("_eccentricity") and v != 0.0}
     return system.with_parameters(**zeros) if zeros else system
@@ -132,7 +134,7 @@ def _ball_pass_period(system, t=0.0):
     return max(periods) if periods else None
 
 
-def _sample_times(system, t, count):
+def sample_times(system, t, count):
     """``count`` times over one ball-passing period from ``t``, on ``t``'s side of any time event."""
     period = _ball_pass_period(system, t)
     if period is None or count == 1:
@@ -148,7 +150,7 @@ def _sample_times(system, t, count):
     return t + offsets * (min(after) - t) / period  # segment shorter than a period: sample what there is
 
 
-def _rub_stators(system):
+def rub_stators(system):
     from ..elements import RubStator
 
     return [e for e in system.model.elements if isinstance(e, RubStator)]
@@ -222,8 +224,8 @@ def static_equilibrium(system, t=0.0, *, unbalance=False, q0=None, tol=DEFAULT_E
     """
     from scipy import optimize
 
-    _check_system(system, "static_equilibrium")
-    t = _check_time(t)
+    check_system(system, "static_equilibrium")
+    t = check_time(t)
     driven = [r.name for r in getattr(getattr(system, "model", None), "rotors", {}).values()
               if getattr(r, "drive", None) is not None]
     if driven:
@@ -243,9 +245,9 @@ def static_equilibrium(system, t=0.0, *, unbalance=False, q0=None, tol=DEFAULT_E
     names = tuple(system.coordinate_names)
     n = len(names)
     if q0 is not None:
-        q0 = _check_coordinates(q0, n, "q0")
+        q0 = check_coordinates(q0, n, "q0")
     if not unbalance:
-        system = _without_unbalance(system)
+        system = without_unbalance(system)
 
     zero = np.zeros(n)
     a_zero = _accelerations(system, t, zero)
@@ -375,11 +377,11 @@ def linearize(system, q, t=0.0, *, eps=None, method="auto"):
     >>> A[2].round(6).tolist()   # x1'' = -k/m x1 - c/m x1'
     [-10000.0, 0.0, -2.0, 0.0]
     """
-    _check_system(system, "linearize")
-    t = _check_time(t)
+    check_system(system, "linearize")
+    t = check_time(t)
     names = tuple(system.coordinate_names)
     n = len(names)
-    q = _check_coordinates(q, n)
+    q = check_coordinates(q, n)
     y0 = np.concatenate([q, np.zeros(n)])
     state_names = tuple(system.state_names)
 
@@ -388,7 +390,7 @@ def linearize(system, q, t=0.0, *, eps=None, method="auto"):
     has_exact = bool(getattr(system, "has_jacobian", False)) and callable(getattr(system, "jacobian", None))
     if method == "analytic" and not has_exact:
         raise ParameterError(f"method='analytic': system {system.name!r} has no analytic Jacobian; use method='fd'")
-    steps = _steps(names, q, eps)  # validates eps whatever the method
+    steps = difference_steps(names, q, eps)  # validates eps whatever the method
     if method == "analytic" or (method == "auto" and has_exact):
         A = np.array(system.jacobian(t, y0), dtype=float)
         if A.shape != (2 * n, 2 * n):
@@ -414,7 +416,7 @@ def linearize(system, q, t=0.0, *, eps=None, method="auto"):
     return A, state_names
 
 
-def _steps(names, q, eps):
+def difference_steps(names, q, eps):
     """Coordinate steps (n,) from a relative ``eps``, or all 2n steps from an array."""
     n = len(names)
     if eps is None:

@@ -3,19 +3,20 @@
 :func:`natural_frequencies` linearises a compiled :class:`~rotorkit.system.System`
 at its static equilibrium (Hertzian bearings averaged over the cage
 positions, rub contacts engaged on request) and returns a
-:class:`~rotorkit.analysis.modal.Modes`: natural and damped frequencies,
+:class:`~rotorkit.linear.modal.Modes`: natural and damped frequencies,
 damping ratios, logarithmic decrements, whirl direction per mode and per
 station, right and left mode shapes.
 
-The analysis is split by concept; every public name stays importable from
-here:
+Related modules of :mod:`rotorkit.linear`:
 
-- :mod:`rotorkit.analysis.linearize`: :func:`static_equilibrium`, :func:`linearize`;
-- :mod:`rotorkit.analysis.modal`: :class:`Modes` and the eigen-solution of
+- :mod:`rotorkit.linear.linearize`: :func:`static_equilibrium`, :func:`linearize`;
+- :mod:`rotorkit.linear.modal`: :class:`Modes` and the eigen-solution of
   a second-order system;
-- :mod:`rotorkit.analysis.linear_model`: :class:`LinearModel` (``M``, ``C``,
+- :mod:`rotorkit.linear.linear_model`: :class:`LinearModel` (``M``, ``C``,
   ``G``, ``K``, ``H``) and :func:`linear_model`;
-- :mod:`rotorkit.analysis.campbell`: :class:`Campbell`, :func:`campbell`.
+- :mod:`rotorkit.linear.campbell`: :class:`Campbell`, :func:`campbell`.
+
+(The old path ``rotorkit.analysis.modes`` still re-exports all of these.)
 
 Conventions: frequencies in rad/s, displacements in m, angles in rad; mode
 numbers are 1-based. Real eigenvalues (overdamped or diverging motions) are
@@ -38,46 +39,22 @@ import numpy as np
 from ..errors import ParameterError
 from .linearize import (
     DEFAULT_CAGE_SAMPLES,
-    DEFAULT_EQUILIBRIUM_TOL,
-    DEFAULT_RELATIVE_STEP,
-    _check_coordinates,
-    _check_system,
-    _check_time,
-    _rub_stators,
-    _sample_times,
-    _steps,
-    _without_unbalance,
+    check_coordinates,
+    check_system,
+    check_time,
+    difference_steps,
     linearize,
+    rub_stators,
+    sample_times,
     static_equilibrium,
+    without_unbalance,
 )
-from .modal import OSCILLATORY_RTOL, Modes, modes_from_state_matrix
+from .modal import OSCILLATORY_RTOL, modes_from_state_matrix
 
 __all__ = [
-    "Modes",
-    "Campbell",
-    "LinearModel",
-    "static_equilibrium",
-    "linearize",
-    "linear_model",
     "natural_frequencies",
     "averaged_jacobian",
-    "campbell",
-    "DEFAULT_CAGE_SAMPLES",
-    "DEFAULT_EQUILIBRIUM_TOL",
-    "DEFAULT_RELATIVE_STEP",
 ]
-
-
-def __getattr__(name):  # Campbell and the linear model live in their own modules
-    if name in ("Campbell", "campbell"):
-        from . import campbell as module
-
-        return getattr(module, name)
-    if name in ("LinearModel", "linear_model"):
-        from . import linear_model as module
-
-        return getattr(module, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _oscillatory(eigenvalues):
@@ -122,7 +99,7 @@ def _rub_is_engaged(system, q, stators):
 
 
 def _check_options(system, t, rub_engaged, unbalance, cage_samples, method, equilibrium):
-    t = _check_time(t)
+    t = check_time(t)
     n = len(system.coordinate_names)
     if rub_engaged not in (None, True, False):
         raise ParameterError(f"rub_engaged={rub_engaged!r} is invalid: expected None, True or False")
@@ -139,7 +116,7 @@ def _check_options(system, t, rub_engaged, unbalance, cage_samples, method, equi
     if isinstance(equilibrium, bool):
         pass
     elif isinstance(equilibrium, (np.ndarray, list, tuple)):
-        given = _check_coordinates(equilibrium, n, "equilibrium")
+        given = check_coordinates(equilibrium, n, "equilibrium")
     else:
         raise ParameterError(
             f"equilibrium={equilibrium!r} is invalid: expected True, False or {n} coordinates (m, rad)"
@@ -166,20 +143,20 @@ def averaged_jacobian(system, *, t=0.0, equilibrium=True, rub_engaged=None, unba
     """
     from ..units import to_si
 
-    _check_system(system, "averaged_jacobian")
+    check_system(system, "averaged_jacobian")
     t = to_si(t, "s", "t")
     t, given = _check_options(system, t, rub_engaged, unbalance, cage_samples, method, equilibrium)
     names = tuple(system.coordinate_names)
     n = len(names)
     if not unbalance:
-        system = _without_unbalance(system)
-    stators = _rub_stators(system)
+        system = without_unbalance(system)
+    stators = rub_stators(system)
     if rub_engaged is False and stators:
         values = system.parameters
         off = {f"{s.label()}_contact_stiffness": 0.0 for s in stators}
         if any(values[name] != 0.0 for name in off):
             system = system.with_parameters(**off)
-    times = _sample_times(system, t, int(cage_samples))
+    times = sample_times(system, t, int(cage_samples))
     jacobians, per_sample, operating_point, engaged = [], [], None, False
     for ti in times:
         if given is not None:
@@ -190,7 +167,7 @@ def averaged_jacobian(system, *, t=0.0, equilibrium=True, rub_engaged=None, unba
             q = np.zeros(n)
         target = system
         if rub_engaged and stators:
-            steps = _steps(names, q, eps)
+            steps = difference_steps(names, q, eps)
             target = _engage_rub(system, q, stators, steps)
         engaged = engaged or _rub_is_engaged(target, q, stators)
         A, _ = linearize(target, q, ti, eps=eps, method=method)
@@ -275,7 +252,7 @@ def natural_frequencies(system, *, t=0.0, equilibrium=True, rub_engaged=None, un
     >>> modes.frequencies.round(6).tolist(), modes.damping_ratios.round(6).tolist()
     ([100.0, 100.0], [0.01, 0.01])
     """
-    _check_system(system, "natural_frequencies")
+    check_system(system, "natural_frequencies")
     A, per_sample, operating_point, times, engaged = averaged_jacobian(
         system, t=t, equilibrium=equilibrium, rub_engaged=rub_engaged, unbalance=unbalance,
         cage_samples=cage_samples, eps=eps, method=method)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .linearize import _check_system, static_equilibrium
+from .linearize import check_system, static_equilibrium
 from .whirl import station_pairs
 
 __all__ = ["StaticDeflection", "static_deflection", "holds_rotor"]
@@ -208,7 +208,7 @@ def static_deflection(system, t=0.0, **equilibrium):
         else:
             model, parameters, names = system, system.parameters, tuple(system.coordinate_names)
     if q is None:
-        _check_system(system, "static_deflection")
+        check_system(system, "static_deflection")
         q = static_equilibrium(system, t, **equilibrium)
         model, parameters, names = system.model, system.parameters, tuple(system.coordinate_names)
 

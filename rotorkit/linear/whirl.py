@@ -80,12 +80,12 @@ class Orbit:
 
 def _amplitudes(X, Y):
     """``X``, ``Y`` as complex arrays in SI units: pint quantities of one dimension are converted (µm -> m)."""
-    from ..units import _is_quantity
+    from ..units import is_quantity
 
-    if _is_quantity(X) or _is_quantity(Y):
+    if is_quantity(X) or is_quantity(Y):
         from ..errors import UnitError
 
-        if not (_is_quantity(X) and _is_quantity(Y)) or X.dimensionality != Y.dimensionality:
+        if not (is_quantity(X) and is_quantity(Y)) or X.dimensionality != Y.dimensionality:
             raise UnitError(f"orbit: X = {X!r} and Y = {Y!r} must be quantities of one dimension (or both numbers)")
         X, Y = X.to_base_units().magnitude, Y.to_base_units().magnitude
     return np.asarray(X, dtype=complex), np.asarray(Y, dtype=complex)

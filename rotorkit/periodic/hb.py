@@ -8,7 +8,7 @@ coordinate is ``q(t) = a_0 + sum_k (a_k cos(k tau) + b_k sin(k tau))``,
 ``k = 1 ... H``; the unknowns ``z`` are these real coefficients, harmonic
 first: ``z = [a_0 (n), a_1 (n), b_1 (n), ..., a_H (n), b_H (n)]``. The
 complex amplitude of harmonic ``k`` is ``a_k - i b_k`` (``q = Re(Q e^{ik tau})``,
-the convention of :func:`rotorkit.analysis.unbalance.unbalance_response`).
+the convention of :func:`rotorkit.linear.unbalance.unbalance_response`).
 
 The equations ``M (q'' - a(t, q, q')) = 0``, with ``a`` the accelerations of
 the compiled right-hand side, are split as ``a = A_q q + A_v q' + g(t, q, q')``
@@ -125,7 +125,7 @@ class Frame:
                 raise NoOscillatingInput(
                     f"{self._hb.system.name}: nothing drives a periodic response at {self._hb.speed_parameter}="
                     f"{self._speed:g} rad/s (no unbalance, no periodic force: every disk eccentricity is 0?); the "
-                    "steady state is static (rotorkit.analysis.static)")
+                    "steady state is static (rotorkit.linear.static)")
             self._scale = scale
         return self._scale
 

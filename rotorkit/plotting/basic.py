@@ -232,7 +232,7 @@ def plot_signals(result, names, ax=None, *, scale=1.0, unit_label="", highpass=N
     for name in names:
         x = result[name]
         if highpass is not None:
-            from ..analysis.signals import highpass as hp
+            from ..signals import highpass as hp
 
             x = hp(result.t, x, highpass)
         ax.plot(result.t, x * scale, lw=0.5, label=name, **line_kwargs)

@@ -1,4 +1,4 @@
-"""Campbell and stability diagrams (:mod:`rotorkit.analysis.campbell`)."""
+"""Campbell and stability diagrams (:mod:`rotorkit.linear.campbell`)."""
 
 import math
 
@@ -37,7 +37,7 @@ def plot_campbell(campbell, ax=None, units="rad/s", *, show_critical=True, frequ
 
     Parameters
     ----------
-    campbell : rotorkit.analysis.campbell.Campbell
+    campbell : rotorkit.linear.campbell.Campbell
     ax : matplotlib.axes.Axes, optional
     units : {"rad/s", "Hz", "rpm"}
         Unit of the speed axis (and of the frequency axis unless
@@ -97,7 +97,7 @@ def plot_log_decrement(campbell, ax=None, units="rad/s", *, show_onset=True):
 
     Parameters
     ----------
-    campbell : rotorkit.analysis.campbell.Campbell
+    campbell : rotorkit.linear.campbell.Campbell
     ax : matplotlib.axes.Axes, optional
     units : {"rad/s", "Hz", "rpm"}
         Unit of the speed axis.

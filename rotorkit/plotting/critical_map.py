@@ -1,4 +1,4 @@
-"""Critical speed map (:mod:`rotorkit.analysis.critical_map`)."""
+"""Critical speed map (:mod:`rotorkit.linear.critical_map`)."""
 
 import numpy as np
 
@@ -12,7 +12,7 @@ def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
 
     Parameters
     ----------
-    cmap : rotorkit.analysis.critical_map.CriticalSpeedMap
+    cmap : rotorkit.linear.critical_map.CriticalSpeedMap
     ax : matplotlib.axes.Axes, optional
     units : {"rad/s", "Hz", "rpm"}
         Unit of the speed axis.

@@ -1,4 +1,4 @@
-"""Mode shapes as whirl orbits along the shaft (:class:`rotorkit.analysis.modal.Modes`), the rotor drawn under them."""
+"""Mode shapes as whirl orbits along the shaft (:class:`rotorkit.linear.modal.Modes`), the rotor drawn under them."""
 
 import numpy as np
 
@@ -24,7 +24,7 @@ def _stations(modes, layout):
     Positions from the layout (spools placed), else the modes' own station
     positions, else the station order (one line).
     """
-    from ..analysis.whirl import station_pairs
+    from ..linear.whirl import station_pairs
 
     pairs = station_pairs(modes.coordinate_names)
     positions = layout.positions if layout is not None else modes.station_positions
@@ -50,7 +50,7 @@ def plot_mode_shape(modes, mode, ax=None, *, model=None, units="rad/s", rotor=Tr
 
     Parameters
     ----------
-    modes : rotorkit.analysis.modal.Modes
+    modes : rotorkit.linear.modal.Modes
     mode : int
         Mode number (1 is the lowest).
     ax : matplotlib.axes.Axes, optional
@@ -58,7 +58,7 @@ def plot_mode_shape(modes, mode, ax=None, *, model=None, units="rad/s", rotor=Tr
     model : rotorkit.Model or System, optional
         The model the modes belong to, for the axial positions of every spool
         and the rotor drawing; default the layout the modes carry (modes of a
-        compiled system, :func:`~rotorkit.analysis.modes.natural_frequencies`).
+        compiled system, :func:`~rotorkit.linear.modes.natural_frequencies`).
     units : str
         Frequency units of the title.
     rotor : bool
@@ -77,12 +77,12 @@ def plot_mode_shape(modes, mode, ax=None, *, model=None, units="rad/s", rotor=Tr
     line). Where stations also tilt, their slope orbits are drawn dotted
     (relative to the largest slope orbit), with their own markers where
     they are significant against the displacements (the slope times the
-    rotor's length, :attr:`~rotorkit.analysis.modal.Modes.reference_length`,
+    rotor's length, :attr:`~rotorkit.linear.modal.Modes.reference_length`,
     as the whirl of a mode weighs it): the mode's whirl in the title (and
     the table) is forward, backward or mixed from all these markers
     together.
     """
-    from ..analysis.whirl import SIGNIFICANT, orbit, slope_orbit, tilt_pairs
+    from ..linear.whirl import SIGNIFICANT, orbit, slope_orbit, tilt_pairs
 
     i = modes._index(mode)
     layout = _layout(modes, model)
@@ -163,7 +163,7 @@ def plot_mode_orbits(modes, mode, ax=None, *, model=None, points=60, units="rad/
     -------
     mpl_toolkits.mplot3d.axes3d.Axes3D
     """
-    from ..analysis.whirl import orbit
+    from ..linear.whirl import orbit
 
     i = modes._index(mode)
     ax = new_axes(ax, figsize=(7.0, 4.5), projection="3d")

@@ -1,4 +1,4 @@
-"""Bode, polar and FRF plots (:mod:`rotorkit.analysis.unbalance`, :mod:`rotorkit.analysis.frf`)."""
+"""Bode, polar and FRF plots (:mod:`rotorkit.linear.unbalance`, :mod:`rotorkit.linear.frf`)."""
 
 import numpy as np
 
@@ -25,7 +25,7 @@ def plot_unbalance_bode(response, coordinate, *, rotor=None, axes=None, units="r
 
     Parameters
     ----------
-    response : rotorkit.analysis.unbalance.UnbalanceResponse
+    response : rotorkit.linear.unbalance.UnbalanceResponse
     coordinate : str
         E.g. ``"x2"``.
     rotor : str, optional

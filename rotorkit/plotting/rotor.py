@@ -67,7 +67,7 @@ def _as_int(text):
 def rotor_layout(model):
     """The :class:`RotorLayout` of a :class:`~rotorkit.Model` (a System's ``.model``)."""
     model = getattr(model, "model", model)
-    from ..analysis.linear_matrices import shaft_edges, walk_positions
+    from ..linear.linear_matrices import shaft_edges, walk_positions
 
     edges = shaft_edges(model)
     stations = [str(s) for s in model.stations]

@@ -60,7 +60,7 @@ def plot_sensor_signals(signals, ax=None, *, highpass=None):
 def plot_sensor_waterfall(signal, ax=None, *, highpass=2.0, segment=0.2, overlap=0.5, orders=None, fmax=None,
                           flat=False):
     """Time-frequency waterfall (or, ``flat=True``, spectrogram) of a sensor signal after the high-pass (Hz)."""
-    from ..analysis.signals import stft
+    from ..signals import stft
     from .spectra import plot_spectrogram, plot_waterfall
 
     s = signal if highpass is None else signal.highpass(highpass)

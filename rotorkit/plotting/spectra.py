@@ -4,7 +4,7 @@ The figures of the paper's Section 3 (Figs. 9-16):
 
 - :func:`plot_waterfall`: a *time-frequency waterfall*: amplitude spectra of
   short segments, stacked along time in 3-D (Figs. 9-12, 16), from
-  :func:`rotorkit.analysis.signals.stft`;
+  :func:`rotorkit.signals.stft`;
 - :func:`plot_spectrogram`: the same data as a 2-D colour map;
 - :func:`plot_cascade`: a *spectrum cascade*: the spectra of a parameter
   sweep stacked along the swept parameter (Figs. 13-15), from
@@ -149,7 +149,7 @@ def _time_frequency(tf):
         units = tf.units
     except AttributeError:
         raise ParameterError(
-            f"tf={type(tf).__name__}: expected a TimeFrequency (rotorkit.analysis.signals.stft)"
+            f"tf={type(tf).__name__}: expected a TimeFrequency (rotorkit.signals.stft)"
         ) from None
     if time.ndim != 1 or frequency.ndim != 1 or amplitude.shape != (frequency.size, time.size) or time.size < 1:
         raise ParameterError(
@@ -209,8 +209,8 @@ def plot_waterfall(tf, ax=None, *, orders=None, fmax=None, scale=1.0, amplitude_
 
     Parameters
     ----------
-    tf : rotorkit.analysis.signals.TimeFrequency
-        From :func:`~rotorkit.analysis.signals.stft` (``amplitude`` of shape
+    tf : rotorkit.signals.TimeFrequency
+        From :func:`~rotorkit.signals.stft` (``amplitude`` of shape
         (n_freq, n_time)).
     ax : mpl_toolkits.mplot3d.axes3d.Axes3D, optional
         A 3-D axes; default: a new Figure with one.
@@ -272,8 +272,8 @@ def plot_spectrogram(tf, ax=None, *, orders=None, fmax=None, log=True, scale=1.0
 
     Parameters
     ----------
-    tf : rotorkit.analysis.signals.TimeFrequency
-        From :func:`~rotorkit.analysis.signals.stft`.
+    tf : rotorkit.signals.TimeFrequency
+        From :func:`~rotorkit.signals.stft`.
     ax : matplotlib.axes.Axes, optional
     orders : mapping of str to float, optional
         Order lines ``{label: frequency}`` in ``tf.units`` (horizontal lines).
@@ -509,7 +509,7 @@ def plot_cascade(cascade, signal, ax=None, *, orders=None, fmax=None, three_d=Tr
 
 
 def _peak_points(peaks, spectrum):
-    from ..analysis.signals import Peak, find_peaks
+    from ..signals import Peak, find_peaks
 
     factors = {("Hz", "rad/s"): 2.0 * math.pi, ("rad/s", "Hz"): 0.5 / math.pi}
 
@@ -538,15 +538,15 @@ def plot_spectrum(spectrum, ax=None, *, orders=None, peaks=None, fmax=None, scal
 
     Parameters
     ----------
-    spectrum : rotorkit.analysis.signals.Spectrum
-        From :func:`~rotorkit.analysis.signals.amplitude_spectrum` or
+    spectrum : rotorkit.signals.Spectrum
+        From :func:`~rotorkit.signals.amplitude_spectrum` or
         :meth:`rotorkit.sweep.Cascade.spectrum`.
     ax : matplotlib.axes.Axes, optional
     orders : mapping of str to float, optional
         Order lines ``{label: frequency}`` in ``spectrum.units`` (vertical).
     peaks : True or iterable, optional
-        Peaks to mark: :class:`~rotorkit.analysis.signals.Peak` objects (from
-        :func:`~rotorkit.analysis.signals.find_peaks`) or ``(frequency,
+        Peaks to mark: :class:`~rotorkit.signals.Peak` objects (from
+        :func:`~rotorkit.signals.find_peaks`) or ``(frequency,
         amplitude)`` pairs; ``True`` finds them (peaks above 5 % of the
         largest, at most 10).
     fmax : float, optional

@@ -86,8 +86,8 @@ class Cascade:
         return self.status == "ok"
 
     def spectrum(self, signal, index):
-        """The :class:`~rotorkit.analysis.signals.Spectrum` of one point (``index`` into ``values``)."""
-        from ..analysis.signals import Spectrum
+        """The :class:`~rotorkit.signals.Spectrum` of one point (``index`` into ``values``)."""
+        from ..signals import Spectrum
 
         rows = self._rows(signal)
         if self.status[index] != "ok":

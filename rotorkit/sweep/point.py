@@ -136,7 +136,7 @@ def _first_runaway(result, limits, peaks=None):
 
 @functools.lru_cache(maxsize=8)
 def _highpass_sos(cutoff, sample_rate, order=4):
-    """The Butterworth sections of :func:`rotorkit.analysis.signals.highpass`, designed once per sweep."""
+    """The Butterworth sections of :func:`rotorkit.signals.highpass`, designed once per sweep."""
     from scipy.signal import butter
 
     return butter(order, cutoff, btype="highpass", fs=sample_rate, output="sos")
@@ -144,9 +144,9 @@ def _highpass_sos(cutoff, sample_rate, order=4):
 
 @functools.lru_cache(maxsize=8)
 def _hann(n_samples):
-    from ..analysis.signals import _taper_weights
+    from ..signals.sampling import taper_weights
 
-    weights = _taper_weights("hann", n_samples)[1]
+    weights = taper_weights("hann", n_samples)[1]
     weights.setflags(write=False)
     return weights
 
@@ -161,10 +161,11 @@ def spectra(result, names, window, highpass_hz):
     list of Spectrum
         One per name, all on the same frequency grid.
     """
-    from ..analysis.signals import Spectrum, _hz_to, _rfft_amplitude, _select_window, _time_step
+    from ..signals.sampling import hz_to, select_window, time_step
+    from ..signals.spectra import Spectrum, rfft_amplitude
 
     t = result.t
-    dt = _time_step(t)
+    dt = time_step(t)
     x = np.vstack([result[name] for name in names])
     if highpass_hz is not None:
         from scipy.signal import sosfiltfilt
@@ -175,12 +176,12 @@ def spectra(result, names, window, highpass_hz):
         sample_rate = 1.0 / dt
         padlen = min(t.size - 1, int(math.ceil(3.0 / (highpass_hz * dt))))
         x = sosfiltfilt(_highpass_sos(float(highpass_hz), sample_rate), x, axis=-1, padlen=padlen)
-    keep = _select_window(t, t, dt, window)  # the window's sample times (checks the window)
+    keep = select_window(t, t, dt, window)  # the window's sample times (checks the window)
     first = int(np.searchsorted(t, keep[0]))
     segments = x[:, first:first + keep.size]
     n = keep.size
-    amplitude = _rfft_amplitude(segments, _hann(n), n)
-    frequency = _hz_to(np.fft.rfftfreq(n, dt), "rad/s")
+    amplitude = rfft_amplitude(segments, _hann(n), n)
+    frequency = hz_to(np.fft.rfftfreq(n, dt), "rad/s")
     frequency.setflags(write=False)
     amplitude.setflags(write=False)
     return [Spectrum(frequency, row, "rad/s", "hann", n, n) for row in amplitude]
@@ -210,9 +211,9 @@ def taper_response(taper, n_samples, n_fft, delta):
         total = (0.5 * _dirichlet(theta, n_samples)
                  - 0.25 * (_dirichlet(theta - shift, n_samples) + _dirichlet(theta + shift, n_samples)))
         return np.abs(total) / (0.5 * n_samples)
-    from ..analysis.signals import _taper_weights
+    from ..signals.sampling import taper_weights
 
-    _, weights = _taper_weights(taper, n_samples)
+    _, weights = taper_weights(taper, n_samples)
     k = np.arange(weights.size)
     out = np.empty(delta.size)
     for i, th in enumerate(theta.ravel()):  # one row at a time: no (len(delta), n) matrix
@@ -233,7 +234,7 @@ def _tone_table(taper, n_samples, n_fft):
 def _order_amplitude(spectrum, frequency):
     """Amplitude of the tone nearest ``frequency`` within +-max(2 bins, 1 %): the highest bin there, corrected
     for the taper's scalloping loss from its larger neighbour (exact for an isolated tone, as
-    :func:`~rotorkit.analysis.signals.find_peaks`, from a table of the taper's response); NaN outside the
+    :func:`~rotorkit.signals.find_peaks`, from a table of the taper's response); NaN outside the
     spectrum."""
     f, a = spectrum.frequency, np.asarray(spectrum.amplitude, dtype=float)
     target = abs(frequency)
