@@ -23,68 +23,19 @@ run is not converged. The check costs the reference run: about
 times the run itself.
 """
 
-from __future__ import annotations
+from .reference_run import (
+    FACTOR,
+    TIGHTEST_RTOL,
+    TRUSTED,
+    Convergence,
+    ConvergenceWarning,
+    compare_with_reference,
+    warn_if_not_converged,
+)
+from .simulate import simulate
 
-import time
-import warnings
-from dataclasses import asdict, dataclass
-
-import numpy as np
-
-from .errors import ParameterError, SimulationError
-
-__all__ = ["Convergence", "ConvergenceWarning", "check_convergence", "TRUSTED", "FACTOR"]
-
-#: a run whose relative difference to the tighter run stays below this is trusted point by point
-TRUSTED = 1e-2
-#: default ratio of the run's tolerances to the reference run's
-FACTOR = 100.0
-#: tightest relative tolerance a reference run is given (a few hundred times machine epsilon)
-TIGHTEST_RTOL = 1e-13
-
-
-class ConvergenceWarning(UserWarning):
-    """A run differs from the same run at a tighter tolerance by more than :data:`TRUSTED`."""
-
-
-@dataclass(frozen=True)
-class Convergence:
-    """Outcome of :func:`check_convergence`.
-
-    Attributes
-    ----------
-    rtol, reference_rtol : float
-        The run's relative tolerance and the reference run's.
-    relative_difference : float
-        The largest, over the coordinates, of ``max|q - q_ref| / max(max|q_ref|, 1000 atol)``;
-        ``inf`` when the reference run failed.
-    worst : str
-        The coordinate where it is largest.
-    difference, amplitude : float
-        ``max|q - q_ref|`` and ``max|q_ref|`` of that coordinate (SI).
-    reference_wall_time : float
-        Wall time of the reference run (s).
-    message : str
-        One line for the user.
-    """
-
-    rtol: float
-    reference_rtol: float
-    relative_difference: float
-    worst: str
-    difference: float
-    amplitude: float
-    reference_wall_time: float
-    message: str
-
-    @property
-    def converged(self):
-        """Whether the run is trusted point by point (``relative_difference <= TRUSTED``)."""
-        return bool(self.relative_difference <= TRUSTED)
-
-    def as_dict(self):
-        """A JSON-ready dict (stored in ``result.stats["convergence"]``)."""
-        return {**asdict(self), "converged": self.converged}
+__all__ = ["Convergence", "ConvergenceWarning", "check_convergence", "warn_if_not_converged", "TRUSTED", "FACTOR",
+           "TIGHTEST_RTOL"]
 
 
 def check_convergence(system, result, *, factor=FACTOR, **options):
@@ -106,40 +57,4 @@ def check_convergence(system, result, *, factor=FACTOR, **options):
     -------
     Convergence
     """
-    from .simulate import simulate
-
-    if not (isinstance(factor, (int, float)) and factor > 1 and np.isfinite(factor)):
-        raise ParameterError(f"factor={factor!r} must be a finite number > 1 (e.g. 100)")
-    rtol = float(result.stats["rtol"])
-    atol = np.asarray(result.stats["atol"], dtype=float)
-    reference_rtol = max(rtol / factor, TIGHTEST_RTOL)
-    began = time.perf_counter()
-    n = len(system.coordinate_names)
-    try:
-        reference = simulate(system, (float(result.t[0]), float(result.t[-1])), method=result.stats["method"],
-                             rtol=reference_rtol, atol=atol * (reference_rtol / rtol), sample_times=result.t,
-                             **options)
-    except SimulationError as err:
-        return Convergence(rtol, reference_rtol, float("inf"), "", float("nan"), float("nan"),
-                           time.perf_counter() - began,
-                           f"not converged: the reference run at rtol {reference_rtol:.0e} failed ({err.args[0]})")
-    wall = time.perf_counter() - began
-    q, q_ref = result.y[:n], reference.y[:n]
-    difference = np.max(np.abs(q - q_ref), axis=1)
-    amplitude = np.max(np.abs(q_ref), axis=1)
-    floor = 1000.0 * (atol[:n] if atol.ndim else np.full(n, float(atol)))
-    relative = difference / np.maximum(amplitude, floor)
-    worst = int(np.argmax(relative))
-    name = system.coordinate_names[worst]
-    verdict = "converged" if relative[worst] <= TRUSTED else "NOT converged"
-    message = (f"{verdict}: against rtol {reference_rtol:.0e}, {name} differs by {difference[worst]:.3g} "
-               f"({100 * relative[worst]:.3g} % of its amplitude {amplitude[worst]:.3g})")
-    return Convergence(rtol, reference_rtol, float(relative[worst]), name, float(difference[worst]),
-                       float(amplitude[worst]), wall, message)
-
-
-def warn_if_not_converged(convergence):
-    """A :class:`ConvergenceWarning` for a run that is not trusted point by point."""
-    if not convergence.converged:
-        warnings.warn(f"{convergence.message}; tighten rtol, or trust only statistics (spectra, amplitudes) "
-                      "of this run (see docs/envelope.md)", ConvergenceWarning, stacklevel=3)
+    return compare_with_reference(simulate, system, result, factor=factor, **options)

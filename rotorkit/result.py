@@ -195,9 +195,9 @@ def load_result(path, *, max_bytes=None):
     if not path.exists():
         raise FileNotFoundError(path)
     if max_bytes is None:
-        from .simulate import _available_memory
+        from .memory import available_memory
 
-        free = _available_memory()
+        free = available_memory()
         max_bytes = min(MAX_LOAD_BYTES, 0.5 * free) if free else MAX_LOAD_BYTES
     # the kind and size of the file first (a FIFO, a device or a huge file is refused unread)
     fh = open_data(path, what="result file", max_bytes=min(LIMITS["result file"], max_bytes + 2**20))

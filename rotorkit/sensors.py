@@ -448,9 +448,9 @@ def measure(system, t_span, sensors, *, sample_rate=None, **options):
         raise ParameterError(f"t_span={t_span!r}: the end time must be after the start time")
     grids = [sensor_instants(s, t0, t1) for s in direct]
     if sample_rate is not None:
-        from .simulate import _sample_times
+        from .simulate import uniform_times
 
-        grids.append(_sample_times(t0, t1, _rate("measure", sample_rate)))
+        grids.append(uniform_times(t0, t1, _rate("measure", sample_rate)))
     times, inverse = np.unique(np.concatenate(grids), return_inverse=True)
     result = simulate(system, (t0, t1), sample_times=times, **options)
     offsets = np.cumsum([0] + [g.size for g in grids])

@@ -21,7 +21,6 @@ Two engines run a segment (both with scipy's error control):
 
 import math
 import numbers
-import os
 import sys
 import time as _time
 from dataclasses import dataclass
@@ -29,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ParameterError, SimulationError
+from .memory import available_memory as _available_memory  # a module global: tests patch it here
 from .result import Result
 from .system import COMPILED_BACKENDS
 
@@ -70,7 +70,7 @@ class _Segment:
     message: str = ""
 
 
-def _sample_times(t0, t1, sample_rate):
+def uniform_times(t0, t1, sample_rate):
     """t0, t0 + 1/fs, ... and t1 itself (a last sample within 1e-6/fs of t1 is put on it)."""
     n = int(math.floor((t1 - t0) * sample_rate + 1e-6)) + 1
     t = t0 + np.arange(n) / sample_rate
@@ -431,7 +431,7 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     if contact_events:
         options["contact_events"] = True
     run = _run_compiled if engine == "compiled" else _run_scipy
-    samples = _sample_times(t0, t1, sample_rate) if sample_times is None else _checked_times(sample_times, t0, t1, system)
+    samples = uniform_times(t0, t1, sample_rate) if sample_times is None else _checked_times(sample_times, t0, t1, system)
     out_t, out_y = [], []
     stats = {"nfev": 0, "njev": 0, "nlu": 0, "segments": 0, "events": 0}
     start_wall = _time.perf_counter()
@@ -467,10 +467,11 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     if checked_after is not None:
         _raise_if_ran_away(system, result, checked_after)
     if check_convergence:
-        from .convergence import check_convergence as check, warn_if_not_converged
+        from .reference_run import compare_with_reference, warn_if_not_converged
 
-        outcome = check(system, result, y0=y_start, engine=engine, max_step=max_step, contact_events=contact_events,
-                        bound="auto" if checked_after is not None else bound)
+        outcome = compare_with_reference(simulate, system, result, y0=y_start, engine=engine, max_step=max_step,
+                                         contact_events=contact_events,
+                                         bound="auto" if checked_after is not None else bound)
         result.stats["convergence"] = outcome.as_dict()
         warn_if_not_converged(outcome)
     return result
@@ -529,14 +530,6 @@ def _number(value, name, expected, *, positive=True, allow_inf=False):
     if np.isnan(v) or (np.isinf(v) and not allow_inf) or (positive and not v > 0):
         raise ParameterError(f"{name}={value!r}: expected {expected}")
     return v
-
-
-def _available_memory():
-    """Bytes of memory free now (Linux/macOS sysconf), or None if unknown."""
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):
-        return None
 
 
 def sample_memory(n_states, duration, sample_rate):

@@ -175,7 +175,7 @@ def _drop_constant(expr, dynamic):
 
 def _element_loads(model, eom):
     """Element label -> {coordinate symbol: load expression} of every element with loads."""
-    from ..model import Context
+    from ..context import Context
     from ..symbolic.lagrange import Symbols
 
     ctx = Context(model, Symbols(model))

@@ -1,7 +1,8 @@
 """Linear analyses of a model or of matrices ``M, C + W G, K + W H``.
 
-One entry for each analysis, importable from here (numpy only at import; scipy,
-sympy and matplotlib load when an analysis runs):
+One module for each analysis, each with one entry (the entries the user reaches for
+first are also importable from :mod:`rotorkit` itself: ``rk.campbell``,
+``rk.unbalance_response``, ...):
 
 - :func:`linear_model`, :class:`LinearModel` (:mod:`~rotorkit.linear.linear_model`): the
   matrices of a model, exact at every speed; built on :mod:`~rotorkit.linear.linear_matrices`
@@ -21,34 +22,11 @@ Helpers: :mod:`~rotorkit.linear.roots` (root bracketing, mode assignment between
 
 These modules lived in :mod:`rotorkit.analysis` before; the old import paths
 (``rotorkit.analysis.campbell`` and so on) still give the same modules.
+
+This ``__init__`` imports nothing: importing one analysis (or one helper, as the
+plotting functions import :mod:`~rotorkit.linear.whirl`) loads only what it
+needs, and the package's functions do not shadow its modules of the same name
+(``campbell``, ``linear_model``, ``linearize``).
 """
 
-from .campbell import Campbell, campbell
-from .critical_map import CriticalSpeedMap, critical_speed_map
-from .frf import FRF, frequency_response
-from .linear_model import LinearModel, linear_model
-from .linearize import linearize, static_equilibrium
-from .modal import Modes
-from .modes import natural_frequencies
-from .static import StaticDeflection, static_deflection
-from .unbalance import Unbalance, UnbalanceResponse, unbalance_response
-
-__all__ = [
-    "LinearModel",
-    "linear_model",
-    "linearize",
-    "static_equilibrium",
-    "Modes",
-    "natural_frequencies",
-    "Campbell",
-    "campbell",
-    "CriticalSpeedMap",
-    "critical_speed_map",
-    "Unbalance",
-    "UnbalanceResponse",
-    "unbalance_response",
-    "FRF",
-    "frequency_response",
-    "StaticDeflection",
-    "static_deflection",
-]
+__all__ = []

@@ -135,7 +135,7 @@ def _symbolic_reactions(system, model, holding, q, t):
     """Element label -> force on the rotor at rest at ``q``, from each element's energy terms (any model)."""
     import sympy as sp
 
-    from ..model import Context
+    from ..context import Context
     from ..symbolic.lagrange import Symbols
 
     names = tuple(system.coordinate_names)

@@ -479,7 +479,7 @@ def element_matrices(model):
         ``(symbols, iterator)``: the model's :class:`Symbols` and the
         per-element iterator.
     """
-    from ..model import Context
+    from ..context import Context
 
     symbols = Symbols(model)
     qs = tuple(symbols.coordinates.values())
@@ -518,7 +518,7 @@ def _add_blocks(mass, stiffness, damping, M, K, C):
 
 
 def _derive(model):
-    from ..model import Context
+    from ..context import Context
 
     symbols = Symbols(model)
     qs = tuple(symbols.coordinates.values())
