@@ -33,7 +33,7 @@ def available_backends():
     return tuple(found)
 
 
-def _resolve_backend(backend, c_ok=True):
+def resolve_backend(backend, c_ok=True):
     """The back end to use for ``backend`` (``auto``: $ROTORKIT_BACKEND, else the first of AUTO_ORDER available).
 
     ``c_ok=False`` (code the C translation does not cover: structured or reduced models) turns an automatic
@@ -261,10 +261,10 @@ def _compiled_function(module, name, backend):
         from .codegen.cmodel import c_functions
 
         return c_functions(module)[name]
-    return _numba_function(module, name)
+    return numba_function(module, name)
 
 
-def _numba_function(module, name):
+def numba_function(module, name):
     func = _JIT_CACHE.get((module.__name__, name))
     if func is None:
         from .codegen import cache
@@ -304,15 +304,15 @@ def compile_model(model, backend="auto", codegen="auto"):
 
     mode = codegen_mode(len(model.coordinate_names), codegen)
     automatic = backend == "auto" and os.environ.get("ROTORKIT_BACKEND", "auto") == "auto"
-    backend = _resolve_backend(backend, c_ok=mode == "unrolled")
+    backend = resolve_backend(backend, c_ok=mode == "unrolled")
     module = _generated(model, mode, jacobian=False)
     if backend == "c":
         core = _c_core(model, module, fall_back=automatic)
         if core is not None:
             return System(model, module, backend, core)
-        backend = _resolve_backend("auto", c_ok=False)
+        backend = resolve_backend("auto", c_ok=False)
     if backend == "numba":
-        core = _numba_function(module, "rhs")
+        core = numba_function(module, "rhs")
         if not core.signatures:  # compile now, with a notice if slow, not silently inside the first run
             from .engines.rk_numba import CORE_SIGNATURE
             from .progress import announce_if_slow
@@ -340,7 +340,7 @@ def _c_core(model, module, fall_back):
     except (CompilerError, Untranslatable, OSError) as exc:
         if not fall_back:
             raise
-        warnings.warn(f"{model.name}: the c back end failed ({exc}); using {_resolve_backend('auto', c_ok=False)}",
+        warnings.warn(f"{model.name}: the c back end failed ({exc}); using {resolve_backend('auto', c_ok=False)}",
                       RuntimeWarning, stacklevel=4)
         return None
 

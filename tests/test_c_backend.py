@@ -122,23 +122,23 @@ def test_compiler_errors_name_the_file_and_message(tmp_path):
 def test_backend_choice(monkeypatch):
     """auto prefers c (unrolled code, a compiler found), then numba, then python; c explicitly without a compiler
     names the fix; c for structured code is refused (auto takes numba there)."""
-    from rotorkit.system import _resolve_backend, available_backends
+    from rotorkit.system import resolve_backend, available_backends
 
     monkeypatch.delenv("ROTORKIT_BACKEND", raising=False)
     if HAS_CC:
-        assert _resolve_backend("auto") == "c"
-    assert _resolve_backend("auto", c_ok=False) in ("numba", "python")
+        assert resolve_backend("auto") == "c"
+    assert resolve_backend("auto", c_ok=False) in ("numba", "python")
     monkeypatch.setenv(cbuild.VARIABLE, "0")
     assert "c" not in available_backends()
-    assert _resolve_backend("auto") != "c"
+    assert resolve_backend("auto") != "c"
     with pytest.raises(ParameterError, match="backend='c' is not available here: install a C compiler"):
-        _resolve_backend("c")
+        resolve_backend("c")
     monkeypatch.delenv(cbuild.VARIABLE)
     if HAS_CC:
         with pytest.raises(ParameterError, match="unrolled code generation only"):
-            _resolve_backend("c", c_ok=False)
+            resolve_backend("c", c_ok=False)
     with pytest.raises(ParameterError, match="backend='fortran' is unknown"):
-        _resolve_backend("fortran")
+        resolve_backend("fortran")
 
 
 @needs_cc

@@ -53,9 +53,6 @@ KNOWN_PRIVATE = {
     # code generation helpers shared by the structured and reduced generators
     ("rotorkit.codegen.structured", "rotorkit.codegen.generate"),
     ("rotorkit.reduction.codegen", "rotorkit.codegen.generate"),
-    # backend resolution of rotorkit.system used by the CLI and the reduced system
-    ("rotorkit.cli.run", "rotorkit.system"),
-    ("rotorkit.reduction.system", "rotorkit.system"),
     # the periodic package (edited in parallel this session)
     ("rotorkit.periodic.switching", "rotorkit.periodic.stability"),
 }

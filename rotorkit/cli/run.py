@@ -99,11 +99,11 @@ def _compile_integrator_ahead(args):
     use the compiled engine or the loop is loaded already.
     """
     from ..simulate import COMPILED_METHODS
-    from ..system import _resolve_backend
+    from ..system import resolve_backend
 
     if args.engine == "scipy" or args.method not in COMPILED_METHODS:
         return None
-    backend = _resolve_backend(args.backend)
+    backend = resolve_backend(args.backend)
     if backend == "c":
         from ..engines.rk_c import build_in_background
 

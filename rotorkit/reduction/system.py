@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ParameterError
-from ..system import System, _numba_function, _resolve_backend
+from ..system import System, numba_function, resolve_backend
 from .basis import craig_bampton
 
 __all__ = ["reduce", "ReducedSystem", "ReductionError"]
@@ -298,7 +298,7 @@ def reduce(system_or_model, modes, *, keep=None, backend=None):
     if backend is None:
         backend = getattr(system_or_model, "backend", "auto")
         backend = "auto" if backend == "c" else backend  # the reduced code is matrices: not for the c back end
-    backend = _resolve_backend(backend, c_ok=False)
+    backend = resolve_backend(backend, c_ok=False)
     module = _module(model)
     names = tuple(module.STATE_NAMES[: module.N_COORDINATES])
     kept = _keep_indices(keep, names)
@@ -311,7 +311,7 @@ def reduce(system_or_model, modes, *, keep=None, backend=None):
         raise ParameterError(f"modes={modes!r}: expected an integer from 0 to {n_interior} (the interior "
                              f"coordinates of {model.name}: {len(names)} coordinates, {n_boundary} on the boundary)")
     if backend == "numba":
-        core = _numba_function(module, "rhs")
+        core = numba_function(module, "rhs")
         if not core.signatures:
             from ..engines.rk_numba import CORE_SIGNATURE
             from ..progress import announce_if_slow
