@@ -77,7 +77,7 @@ class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         module.__spec__ = module.__spec__.loader_state  # ... which is put back here: the module is already run
 
 
-if not any(isinstance(finder, _MovedModules) for finder in sys.meta_path):
+if not any(type(finder).__qualname__ == _MovedModules.__qualname__ for finder in sys.meta_path):  # once, reload too
     sys.meta_path.insert(0, _MovedModules())
 
 

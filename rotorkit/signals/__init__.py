@@ -19,6 +19,7 @@ divided out); :func:`find_peaks` also corrects the scalloping loss of tones
 between bins.
 
 Bad input raises :class:`rotorkit.errors.ParameterError`, a ``ValueError``.
+
 Modules, by concept:
 
 - :mod:`~rotorkit.signals.sampling`: checks of sample times, windows, tapers, frequency units;
