@@ -123,6 +123,7 @@ def simply_supported():
     return model, L, rho * math.pi * d**2 / 4 * 9.81, 20.0 * 9.81
 
 
+@pytest.mark.slow  # derives a small beam model (~10-30 s on a loaded machine)
 def test_shear_and_moment_of_a_simply_supported_shaft(simply_supported):
     model, L, w, P = simply_supported
     s = shear_moment(model)
