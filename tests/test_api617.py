@@ -29,6 +29,15 @@ def test_unbalance_magnitude_is_6350_w_over_n_g_mm():
     assert unbalance_magnitude("441 lb", "10000 rpm") * 1e6 / 720.078 == pytest.approx(4 * 441 / 10000, rel=2e-3)
 
 
+def test_docstring_examples_run():
+    import doctest
+
+    from rotorkit.audit import formulas
+
+    failures, tried = doctest.testmod(formulas, verbose=False)
+    assert tried >= 2 and failures == 0
+
+
 def _sdof(zeta, r):
     return 1.0 / np.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
 
