@@ -126,3 +126,41 @@ def test_bad_audit_arguments_are_named(args, match):
         code = main(["audit", str(ROOT / "examples" / "compressor.toml"), *args])
     assert code == 2
     assert match in err.getvalue()
+
+
+@pytest.fixture(scope="module")
+def compressor_audit(report):  # after the command: the model's linear matrices are in the session's cache
+    from rotorkit import load_model
+    from rotorkit.analysis.api617 import api617_audit
+
+    model = load_model(ROOT / "examples" / "compressor.toml")
+    return model, api617_audit(model, ("8000 rpm", "10500 rpm"), q_a="1.5 MN/m")
+
+
+@pytest.mark.slow
+def test_compressor_audit_inputs_against_the_model_file(compressor_audit):
+    import math
+
+    model, audit = compressor_audit
+    # journal loads: the bearings carry the rotor's whole weight (beams and impellers), in kg
+    mass = sum(e.mass_value() for e in model.elements if type(e).__name__ == "BeamSegment")
+    mass += sum(e.mass for e in model.elements if type(e).__name__ == "Disk")
+    assert sum(audit.journal_loads.values()) == pytest.approx(mass, rel=1e-9)
+    # the bearing curves drawn on the map are the file's kxx, kyy tables (piecewise linear in rad/s)
+    table = [0, 400, 800, 1200, 1600]
+    speeds, kxx = audit.critical_map.bearing_curves["linearbearing3 kxx"]
+    assert kxx == pytest.approx(np.interp(speeds, table, [300e6, 340e6, 390e6, 450e6, 520e6]), rel=1e-9)
+    speeds, kyy = audit.critical_map.bearing_curves["linearbearing18 kyy"]
+    assert kyy == pytest.approx(np.interp(speeds, table, [200e6, 230e6, 270e6, 320e6, 380e6]), rel=1e-9)
+    # the first mode (one lobe) gets one unbalance of 6350 (W1 + W2) / N g mm
+    first = audit.modes[0]
+    assert len(first.unbalances) == 1
+    n_rpm = 10500.0
+    assert first.unbalances[0].magnitude == pytest.approx(6350 * mass / n_rpm * 1e-6, rel=1e-9)
+    # its peak is where the 1x line meets the mode, below the operating range here
+    assert first.amplification.critical_speed < 8000 * math.pi / 30
+    # the static loads balance: shear and moment close at the free right end
+    assert audit.shear_moment.closure[0] < 1e-6 * mass * 9.81
+    # Level I: at the mid-span station by default, Q_A as given
+    assert audit.stability.q_a == pytest.approx(1.5e6)
+    assert audit.stability.stations == ("11",)
