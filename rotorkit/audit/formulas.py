@@ -219,7 +219,7 @@ def _operating(operating_range):
         bounds = to_si_array(operating_range, "rad/s", "operating_range").reshape(-1)
     except ParameterError:
         raise
-    except (TypeError, ValueError):
+    except (TypeError, ValueError):  # not a pair of numbers or quantities
         bounds = np.array([])
     if bounds.size != 2 or not np.all(np.isfinite(bounds)) or not 0 < bounds[0] <= bounds[1]:
         raise ParameterError(f"operating_range={operating_range!r} is invalid: expected (minimum operating speed, "

@@ -16,8 +16,6 @@ import datetime
 import html
 import math
 
-import numpy as np
-
 __all__ = ["write_report", "report_html"]
 
 _RPM = 30.0 / math.pi
@@ -175,7 +173,8 @@ def report_html(audit):
         parts.append(_img(_mode_figure(audit, c), f"unbalance response of mode {c.mode}"))
     s = audit.stability
     parts.append("<h2>Level I stability</h2>")
-    parts.append(f"<p>Cross-coupled stiffness Q (F_x = -Q y, F_y = Q x) at station(s) {html.escape(', '.join(s.stations))}"
+    where = html.escape(", ".join(s.stations))
+    parts.append(f"<p>Cross-coupled stiffness Q (F_x = -Q y, F_y = Q x) at station(s) {where}"
                  f", rotor at {s.speed * _RPM:.6g} rpm; log decrement of the first forward mode from Q = 0 to "
                  "10 Q_A; Q_0 where it reaches zero. Level II is required when Q_0 / Q_A &lt; 2 or the log "
                  "decrement at Q_A is below 0.1 (the critical speed ratio / gas density chart is not "

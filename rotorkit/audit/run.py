@@ -13,8 +13,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from ..errors import ParameterError
 
 __all__ = ["Api617Audit", "api617_audit", "STANDARD_GRAVITY"]

@@ -111,7 +111,8 @@ class Level1Stability:
         ax.plot(self.cross_coupling / 1e6, self.log_decrements, "-o", ms=3, label="first forward mode")
         ax.axhline(0.0, color="0.5", lw=0.8)
         ax.axhline(MIN_LOG_DECREMENT, color="tab:red", lw=0.8, ls=":", label="0.1 (API 617)")
-        ax.plot([self.q_a / 1e6], [self.log_decrement_a], "s", color="tab:orange", label=f"Q_A = {self.q_a / 1e6:.3g} MN/m")
+        ax.plot([self.q_a / 1e6], [self.log_decrement_a], "s", color="tab:orange",
+                label=f"Q_A = {self.q_a / 1e6:.3g} MN/m")
         if math.isfinite(self.q_0):
             ax.plot([self.q_0 / 1e6], [0.0], "D", color="tab:red", label=f"Q_0 = {self.q_0 / 1e6:.3g} MN/m")
         ax.set_xlabel("applied cross-coupling Q (MN/m)")
@@ -202,14 +203,18 @@ def level1_stability(linear, speed, q_a, stations, *, points=11, n_modes=8, rtol
 
     top = 10.0 * qa
     grid = np.linspace(0.0, top, points) if top > 0 else np.zeros(1)
-    values = [log_dec(q, keep=True) for q in grid]
+    values, shapes = [], []
+    for q in grid:
+        values.append(log_dec(q, keep=True))
+        shapes.append(state["shape"])
     deltas = np.array([v[0] for v in values])
     freqs = np.array([v[1] for v in values])
-    delta_a = float(np.interp(qa, grid, deltas)) if top > 0 else deltas[0]
-    if qa > 0 and not np.any(np.isclose(grid, qa)):
+    on_grid = np.flatnonzero(np.isclose(grid, qa, rtol=1e-12, atol=0.0))
+    if on_grid.size:
+        delta_a = float(deltas[on_grid[0]])
+    else:  # Q_A between grid points (points chosen so): from the shape at the point below
+        state["shape"] = shapes[int(np.searchsorted(grid, qa)) - 1]
         delta_a = log_dec(qa)[0]
-    elif qa > 0:
-        delta_a = float(deltas[int(np.argmin(np.abs(grid - qa)))])
     # Q_0: the first sign change on the grid, else extend by doubling
     if deltas[0] <= 0:
         q0 = 0.0
@@ -217,6 +222,7 @@ def level1_stability(linear, speed, q_a, stations, *, points=11, n_modes=8, rtol
         change = np.flatnonzero(deltas <= 0)
         if change.size:
             lo, hi = grid[change[0] - 1], grid[change[0]]
+            state["shape"] = shapes[change[0] - 1]
         else:
             state["shape"] = base.shapes[:, forward[0]]
             lo = grid[-1]
