@@ -166,3 +166,41 @@ def test_shear_and_moment_of_a_simply_supported_shaft(simply_supported):
 def test_bad_input_is_a_named_error(call, match):
     with pytest.raises(ParameterError, match=match):
         call()
+
+
+@pytest.mark.slow  # derives a small beam model
+def test_critical_map_of_a_shaft_without_its_bearings():
+    """Rigid-body modes on soft supports, the pinned-pinned beam on stiff ones (forward synchronous whirl).
+
+    The beam has no rotary inertia of its sections but keeps their gyroscopic coupling (polar inertia
+    rho I_p per length, I_p = 2 I): a forward synchronous whirl is stiffened by it. Bounce:
+    sqrt(2 k / m); conical: sqrt((k L^2 / 2) / (m L^2 / 12 - m d^2 / 8)); pinned-pinned:
+    (pi / L)^2 sqrt(E I / (rho A - rho I_p (pi / L)^2)).
+    """
+    from rotorkit import BeamSegment, LinearBearing, Model, Rotor
+    from rotorkit.analysis.api617 import undamped_critical_map
+    from rotorkit.analysis.linear_model import linear_model
+
+    L, d, rho, E = 1.0, 0.04, 7800.0, 2.1e11
+    beam = dict(length=L / 2, outer_diameter=d, density=rho, youngs_modulus=E, shear_modulus=8e10,
+                theory="euler-bernoulli", rotary_inertia=False, elements=4)
+    model = Model([Rotor(name="R", stations=(1, 2, 3), speed=100.0), BeamSegment(start=1, end=2, **beam),
+                   BeamSegment(start=2, end=3, **beam), LinearBearing(station=1, kxx=3e6, kyy=2e6),
+                   LinearBearing(station=3, kxx=3e6, kyy=2e6)])
+    linear = linear_model(model)
+    area, inertia = math.pi * d**2 / 4, math.pi * d**4 / 64
+    pinned = (math.pi / L) ** 2 * math.sqrt(E * inertia / (rho * area - rho * 2 * inertia * (math.pi / L) ** 2))
+    cmap = undamped_critical_map(model, linear, {"linearbearing1": "1", "linearbearing3": "3"}, 1.5 * pinned,
+                                 decades=(4, 3))
+    mass = rho * area * L
+    k = cmap.stiffnesses
+    soft = int(np.argmin(k))
+    # 200 N/m against a shaft of 48 EI / L^3 = 1.3 MN/m: rigid to ~1e-4
+    assert cmap.speeds[soft, 0] == pytest.approx(math.sqrt(2 * k[soft] / mass), rel=1e-4)
+    conical = math.sqrt(k[soft] * L**2 / 2 / (mass * L**2 / 12 - mass * d**2 / 8))
+    assert cmap.speeds[soft, 1] == pytest.approx(conical, rel=1e-4)
+    stiff = int(np.argmax(k))   # 3 GN/m: pinned ends to ~1e-3
+    assert cmap.speeds[stiff, 0] == pytest.approx(pinned, rel=3e-3)
+    assert cmap.speeds[stiff, 0] < pinned
+    speeds, kxx = cmap.bearing_curves["linearbearing1 kxx"]
+    assert np.allclose(kxx, 3e6) and np.allclose(cmap.bearing_curves["linearbearing3 kyy"][1], 2e6)

@@ -51,7 +51,7 @@ def bearing_stiffness(model, labels, speed_parameter, speed, t=0.0):
     return K
 
 
-def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_critical=4):
+def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_critical=4, decades=(2, 1)):
     """:class:`~rotorkit.analysis.critical_map.CriticalSpeedMap` of the rotor without its bearings.
 
     Parameters
@@ -63,6 +63,14 @@ def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_cr
         Bearing label -> station (str).
     top_speed : float
         Top of the speed range (rad/s).
+    points : int
+        Support stiffness values, log-spaced.
+    n_critical : int
+        Critical speeds kept per whirl direction.
+    decades : (float, float)
+        The stiffness axis spans from ``decades[0]`` decades below the
+        softest bearing's direct stiffness to ``decades[1]`` above the
+        stiffest's.
     """
     from ..analysis.critical_map import critical_speed_map
     from ..analysis.linear_model import LinearModel
@@ -92,7 +100,7 @@ def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_cr
     direct = np.array([k for k in direct if k > 0])
     if direct.size == 0:
         raise ParameterError("audit: the bearings have no positive direct stiffness to map critical speeds against")
-    stiffnesses = np.logspace(np.log10(direct.min()) - 2, np.log10(direct.max()) + 1, points)
+    stiffnesses = np.logspace(np.log10(direct.min()) - decades[0], np.log10(direct.max()) + decades[1], points)
     return critical_speed_map(free, sorted(set(bearings.values()), key=str), stiffnesses, (1e-3 * top_speed, top_speed),
                               n_critical=n_critical, bearing_curves=curves)
 
