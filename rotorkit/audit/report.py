@@ -135,8 +135,13 @@ def report_html(audit):
     parts.append(_img(_rotor_figure(audit), "the rotor"))
     parts.append(_table(["element", "type"], [(e.label(), type(e).__name__) for e in model.elements]))
     parts.append("<h2>Static analysis</h2>")
-    parts.append(_table(["bearing", "station", "journal static load (kg)", "load (N)"],
-                        [(k, audit.bearings[k], f"{v:.4g}", f"{v * 9.80665:.4g}")
+    def reaction(label):
+        station = audit.bearings[label]
+        forces = audit.static.reactions.get(label, {})
+        return math.hypot(forces.get(f"x{station}", 0.0), forces.get(f"y{station}", 0.0))
+
+    parts.append(_table(["bearing", "station", "journal static load (kg)", "reaction (N)"],
+                        [(k, audit.bearings[k], f"{v:.4g}", f"{reaction(k):.4g}")
                          for k, v in audit.journal_loads.items()]))
     deflection, diagrams = _static_figures(audit)
     z, m = audit.shear_moment.max_moment()
