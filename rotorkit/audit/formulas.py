@@ -66,7 +66,7 @@ def unbalance_magnitude(journal_load, max_continuous_speed):
 
 @dataclass(frozen=True, slots=True)
 class AmplificationFactor:
-    """Amplification factor of one resonance peak by the half-power bandwidth (API 617 8th ed. Fig. 1-?; API 684).
+    """Amplification factor of one resonance peak by the half-power bandwidth (API 617, API 684).
 
     Attributes
     ----------
@@ -123,7 +123,7 @@ def amplification_factor(speeds, amplitude, window=None):
     -----
     For a single degree of freedom with damping ratio ``zeta`` the
     half-power bandwidth is ``2 zeta`` of the resonance and ``AF = 1 / (2 zeta)``
-    to first order in ``zeta`` (API 684, 2.3.1).
+    to first order in ``zeta`` (API 684).
     """
     w = np.asarray(speeds, dtype=float).reshape(-1)
     a = np.asarray(amplitude, dtype=float).reshape(-1)
@@ -174,8 +174,8 @@ def required_separation_margin(factor, above):
 
     ``AF < 2.5``: none (0). Otherwise ``SM = 17 (1 - 1 / (AF - 1.5))`` for a
     mode below the minimum operating speed and ``SM = 10 + 17 (1 - 1 / (AF - 1.5))``
-    for one above the maximum continuous speed (API 617 8th ed., 4.8.2.10;
-    API 684 2.5).
+    for one above the maximum continuous speed (API 617 8th ed., 4.8,
+    lateral analysis; API 684).
 
     Parameters
     ----------
@@ -232,8 +232,8 @@ def wachel_cross_coupling(power, impeller_diameter, restrictive_width, speed, de
                           stage_factor=3.0):
     """Anticipated aerodynamic cross-coupling ``q_A`` (N/m) of each impeller, and ``Q_A`` their sum (Wachel).
 
-    ``q_A = B_c C P / (D_c H_c N) (rho_d / rho_s)`` (API 617 8th ed., 4.8.5.6;
-    API 684 2.8.5.6): ``P`` the rated power of the impeller, ``D_c`` its
+    ``q_A = B_c C P / (D_c H_c N) (rho_d / rho_s)`` (API 617 8th ed., 4.8,
+    Level I stability; API 684): ``P`` the rated power of the impeller, ``D_c`` its
     diameter, ``H_c`` the smaller of the diffuser and the impeller discharge
     widths, ``N`` the speed, ``rho_d / rho_s`` the discharge to suction gas
     density ratio across it and ``B_c = 3`` for centrifugal impellers

@@ -4,9 +4,9 @@ A cross-coupled stiffness ``Q`` (``Fx = -Q y``, ``Fy = +Q x``: a force
 along the forward whirl, destabilising) is added at the chosen stations
 (the rotor mid-span, or the impellers, ``Q`` shared equally) of the rotor
 at its maximum continuous speed; the log decrement of the first forward
-mode is followed from ``Q = 0`` to ``10 Q_A`` (API 617 8th ed. 4.8.5.8) and
+mode is followed from ``Q = 0`` to ``10 Q_A`` (API 617 8th ed., 4.8) and
 ``Q_0``, where it reaches zero, is located by root finding. The screening
-criteria (API 617 4.8.5.10, API 684 2.8.5.10): Level II is required when
+criteria (API 617, API 684): Level II is required when
 ``Q_0 / Q_A < 2`` or the log decrement at ``Q_A`` is below 0.1; the critical
 speed ratio / gas density region chart is not evaluated here.
 """
@@ -131,7 +131,7 @@ def _coupling(n, indices, q):
 
 
 def level1_stability(linear, speed, q_a, stations, *, points=11, n_modes=8, rtol=1e-6):
-    """Level I stability of ``linear`` at ``speed`` (API 617 8th ed. 4.8.5).
+    """Level I stability of ``linear`` at ``speed`` (API 617 8th ed., 4.8).
 
     Parameters
     ----------
