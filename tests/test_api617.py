@@ -162,6 +162,7 @@ def test_shear_and_moment_of_a_simply_supported_shaft(simply_supported):
     (lambda: level1_stability(_jeffcott(), 100.0, 5.0, ["7"]), "station"),
     (lambda: api617_audit(None, ("8000 rpm", "10000 rpm")), "q_a"),
     (lambda: api617_audit(None, ("8000 rpm", "10000 rpm"), q_a=1e6, trip_speed="9000 rpm"), "trip_speed"),
+    (lambda: api617_audit(None, ("8000 rpm", "10000 rpm"), q_a=1e6, unbalance_factor=0.0), "unbalance_factor"),
 ])
 def test_bad_input_is_a_named_error(call, match):
     with pytest.raises(ParameterError, match=match):

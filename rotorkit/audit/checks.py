@@ -159,14 +159,14 @@ def _major_axes(response, stations):
     return out
 
 
-def placements(shape, names, stations, positions, journal_loads, bearing_positions, mcs):
+def placements(shape, names, stations, positions, journal_loads, bearing_positions, mcs, factor=1.0):
     """API 617 unbalances for one mode shape.
 
     One unbalance of ``6350 (sum W) / N`` at the largest displacement when
     the shape has one lobe; otherwise one at each lobe's largest
     displacement (lobes smaller than 30 % of the largest ignored), of
     ``6350 W / N`` with ``W`` the load of the nearest journal, at 0 or 180
-    degrees with the sign of the lobe.
+    degrees with the sign of the lobe. ``factor`` multiplies every magnitude.
     """
     from ..analysis.unbalance import Unbalance
     from .formulas import unbalance_magnitude
@@ -189,17 +189,18 @@ def placements(shape, names, stations, positions, journal_loads, bearing_positio
     total = sum(journal_loads.values())
     if len(lobes) == 1:
         j = lobes[0]
-        return (Unbalance(station=stations[j], magnitude=unbalance_magnitude(total, mcs), angle=0.0),)
+        return (Unbalance(station=stations[j], magnitude=factor * unbalance_magnitude(total, mcs), angle=0.0),)
     out = []
     for j in lobes:
         z = positions[stations[j]]
         nearest = min(bearing_positions, key=lambda label: abs(bearing_positions[label] - z))
-        out.append(Unbalance(station=stations[j], magnitude=unbalance_magnitude(journal_loads[nearest], mcs),
+        out.append(Unbalance(station=stations[j], magnitude=factor * unbalance_magnitude(journal_loads[nearest], mcs),
                              angle=0.0 if v[j] > 0 else math.pi))
     return tuple(out)
 
 
-def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearings, *, points=241, n_modes=8):
+def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearings, *, points=241, n_modes=8,
+                     unbalance_factor=1.0):
     """The API 617 unbalance check of every forward critical speed up to ``top_speed``.
 
     Parameters
@@ -216,6 +217,11 @@ def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearing
         Bearing label -> station.
     points : int
         Speeds of the sweep (a finer grid is added around each critical speed).
+    n_modes : int
+        Lowest modes computed for the Campbell diagram and the mode shapes.
+    unbalance_factor : float
+        Multiplies ``6350 W / N`` (the amplification factors and margins do
+        not depend on it: the response is linear).
 
     Returns
     -------
@@ -244,7 +250,7 @@ def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearing
         candidates = [j for j in range(len(modes)) if fwd[j] > 0.5] or list(range(len(modes)))
         j = min(candidates, key=lambda i: abs(modes.damped_frequencies[i] - nc))
         unb = placements(modes.shapes[:, j], modes.coordinate_names, stations, positions, journal_loads,
-                         bearing_positions, mcs)
+                         bearing_positions, mcs, unbalance_factor)
         speeds = np.union1d(np.linspace(0.02 * top_speed, top_speed, points),
                             np.linspace(nc / 1.4, min(1.4 * nc, top_speed), points))
         response = unbalance_response(linear, unb, speeds)

@@ -128,7 +128,7 @@ def _bearing_loads(model, static, gravity):
 
 
 def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=None, cross_coupling_stations=None,
-                 speed_parameter=None, journal_loads=None, points=241):
+                 speed_parameter=None, journal_loads=None, points=241, unbalance_factor=1.0):
     """Run the API 617 lateral checks on ``model``.
 
     Parameters
@@ -157,6 +157,10 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
         Bearing label -> static load (kg), instead of the gravity reactions.
     points : int
         Speeds of each unbalance response sweep.
+    unbalance_factor : float
+        Multiplies the unbalance ``6350 W / N`` of the response analysis
+        (e.g. 2 for twice the residual unbalance); the amplification factors
+        and separation margins do not depend on it.
 
     Returns
     -------
@@ -182,6 +186,9 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
         raise ParameterError("api617_audit: give exactly one of q_a (the anticipated cross-coupling Q_A, N/m) and "
                              "wachel (the inputs of the Wachel formula: power, impeller_diameter, "
                              "restrictive_width, density_ratio)")
+    if isinstance(unbalance_factor, bool) or not isinstance(unbalance_factor, (int, float)) or not (
+            math.isfinite(unbalance_factor) and unbalance_factor > 0):
+        raise ParameterError(f"unbalance_factor={unbalance_factor!r} is invalid: expected a positive multiple")
     q_each = None
     if wachel is not None:
         if not isinstance(wachel, dict):
@@ -213,7 +220,8 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
     stations = [str(s) for s in (cross_coupling_stations if isinstance(cross_coupling_stations, (list, tuple))
                                  else [cross_coupling_stations])]
     cmap = undamped_critical_map(model, linear, bearings, top)
-    modes = unbalance_checks(model, linear, (low, mcs), top, loads, bearings, points=points)
+    modes = unbalance_checks(model, linear, (low, mcs), top, loads, bearings, points=points,
+                             unbalance_factor=float(unbalance_factor))
     stability = level1_stability(linear, mcs, q_a, stations)
     shear = shear_moment(model, deflection=static)
     rpm = 30.0 / math.pi
@@ -222,6 +230,7 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
               "analysis range": f"0 to {top * rpm:.6g} rpm (125 % of trip)",
               "Q_A": f"{stability.q_a:.6g} N/m" + (" (Wachel)" if q_each is not None else " (given)"),
               "cross-coupling stations": ", ".join(stations),
+              "unbalance": f"{unbalance_factor:g} x 6350 W / N g mm",
               "journal static loads": ", ".join(f"{k}: {v:.4g} kg" for k, v in loads.items())}
     if wachel is not None:
         inputs.update({f"Wachel {k}": str(v) for k, v in wachel.items()})

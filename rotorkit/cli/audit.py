@@ -21,6 +21,8 @@ def register(sub):
     p.add_argument("--density-ratio", default="1", help="Wachel Q_A: discharge / suction gas density per impeller, "
                                                        "comma-separated (default 1)")
     p.add_argument("--stage-factor", default="3", help="Wachel B_c: 3 centrifugal (default), 1.5 axial")
+    p.add_argument("--unbalance-factor", type=float, default=1.0,
+                   help="multiple of the unbalance 6350 W/N g mm (default 1; e.g. 2 for twice the residual unbalance)")
     p.add_argument("--stations", help="stations of the applied cross-coupling, comma-separated (default mid-span)")
     p.add_argument("--speed-parameter", help="rotor speed swept, e.g. R_speed (default: the first rotor's)")
     p.set_defaults(func=main)
@@ -87,7 +89,7 @@ def main(args):
     audit = api617_audit(model, operating, q_a=None if args.qa is None else _number_or_text(args.qa), wachel=wachel,
                          trip_speed=None if args.trip is None else _number_or_text(args.trip),
                          cross_coupling_stations=None if args.stations is None else _list(args.stations),
-                         speed_parameter=args.speed_parameter)
+                         speed_parameter=args.speed_parameter, unbalance_factor=args.unbalance_factor)
     out = output_folder(args, "audit")
     audit.write_csv(out)
     path = audit.write_report(out / "report.html")
