@@ -195,6 +195,11 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
             raise ParameterError(f"wachel={wachel!r} is invalid: expected a dict of wachel_cross_coupling keywords")
         q_each, q_a = wachel_cross_coupling(speed=mcs, **wachel)
     top = 1.25 * trip
+    from ..codegen.linear_cache import linear_module
+
+    if not linear_module(model).LINEAR:
+        raise ParameterError(f"api617_audit: {model.name!r} is not linear (contacts, Hertzian or fluid-film "
+                             "bearings solved in time): expected beams, disks and linear bearings")
     static = static_deflection(model)
     g = math.hypot(*_field(model, 0.0)) or STANDARD_GRAVITY
     bearings, loads = _bearing_loads(model, static, g)
