@@ -38,9 +38,11 @@ def _figure(width=7.0, height=3.6, rows=1):
 
 
 def _img(fig, alt):
-    from ..cli.common import save_figure_bytes
+    import io
 
-    data = base64.b64encode(save_figure_bytes(fig, dpi=100)).decode("ascii")
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    data = base64.b64encode(buf.getvalue()).decode("ascii")
     return f'<img alt="{html.escape(alt)}" src="data:image/png;base64,{data}">'
 
 
