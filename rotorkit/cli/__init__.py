@@ -16,7 +16,7 @@ __all__ = ["main", "build_parser", "parse_assignment", "COMMANDS"]
 
 #: command modules, in the order ``rotorkit --help`` lists them
 COMMANDS = ("run", "equations", "accuracy", "stiffness", "modes", "campbell", "unbalance", "static", "sweep",
-            "validate", "export", "cache", "listing", "periodic")
+            "validate", "export", "cache", "listing", "periodic", "audit")
 
 
 def build_parser():
