@@ -208,7 +208,7 @@ class PlainJournalBearing:
             raise ParameterError(f"PlainJournalBearing at {omega!r} rad/s: the load {np.hypot(*self.load)!r} N needs "
                                  f"an eccentricity ratio > {high} (Sommerfeld number {self.sommerfeld(omega):.3g}): "
                                  "too heavy a load or too low a speed for this film")
-        eps = brentq(lambda e: np.hypot(*plain(e).force) - magnitude, low, high, xtol=1e-13, rtol=1e-12)
+        eps = brentq(lambda e: np.hypot(*plain(e).force) - magnitude, low, high, xtol=1e-11)
         f = plain(eps).force
         turn = math.atan2(target[1], target[0]) - math.atan2(f[1], f[0])
         position = eps * np.array([math.cos(turn), math.sin(turn)])

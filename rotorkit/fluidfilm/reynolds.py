@@ -141,7 +141,7 @@ def _solve_free(A, f, free):
     P = np.zeros(f.size)
     idx = np.flatnonzero(free)
     if idx.size:
-        P[idx] = spsolve(A[idx][:, idx].tocsc(), f[idx])
+        P[idx] = spsolve(A[idx][:, idx].tocsc(), f[idx], permc_spec="NATURAL")  # banded: no reordering
     return P
 
 
@@ -150,7 +150,7 @@ def _complementarity(A, f, free=None, fixed=None, max_steps=100):
 
     ``fixed`` marks nodes held at ``P = 0`` (supply grooves), never free.
     """
-    free = np.ones(f.size, bool) if free is None else free.copy()
+    free = f > 0 if free is None else free.copy()  # first guess: full film where the film converges
     keep = np.ones(f.size, bool) if fixed is None else ~fixed
     free &= keep
     for _ in range(max_steps):
@@ -247,7 +247,7 @@ def film_derivatives(solution, step=1e-6):
             forces.append(_force(grid, _solve_free(A, f, free)))
         out[:, col] = (forces[0] - forces[1]) / (2 * step)
     A, _ = _assemble(grid, X, Y, Xd, Yd)
-    lu = splu(A[idx][:, idx].tocsc())
+    lu = splu(A[idx][:, idx].tocsc(), permc_spec="NATURAL")
     cos, sin = grid._n
     for col, n in ((2, cos), (3, sin)):
         dP = np.zeros(free.size)
