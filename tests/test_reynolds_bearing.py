@@ -73,6 +73,34 @@ def test_cavitated_film_has_the_pi_film_attitude_not_the_full_film_one():
     assert abs(math.degrees(phi - math.atan2(math.pi * math.sqrt(0.75), 2.0))) < 0.5
 
 
+def test_coefficients_equal_finite_differences_of_the_cavitated_film():
+    """Holding the cavitation boundary (film_derivatives) gives the derivatives of the full complementarity
+    solution, whose boundary moves: the Reynolds condition makes that motion second order."""
+    from rotorkit.fluidfilm.reynolds import film_derivatives
+
+    grid = FilmGrid(slenderness=0.5, n_theta=48, n_z=8)
+    sol = solve_film(grid, (0.35, -0.45))
+    J = film_derivatives(sol)
+    h = 1e-5
+    for col in range(4):
+        e = np.zeros(4)
+        e[col] = h
+        plus = solve_film(grid, np.add(sol.position, e[:2]), e[2:]).force
+        minus = solve_film(grid, np.subtract(sol.position, e[:2]), -e[2:]).force
+        np.testing.assert_allclose((plus - minus) / (2 * h), J[:, col], atol=1e-5 * np.abs(J).max())
+
+
+def test_stiffness_maps_the_static_locus():
+    """K times the journal's displacement per unit of extra load is the load direction (0, -1)."""
+    omega = speed_for_sommerfeld(0.3, 0.5)
+    options = dict(diameter=D, length=0.5 * D, clearance=C, viscosity=MU, n_theta=48, n_z=8)
+    K = PlainJournalBearing(**options, load=W).coefficients([omega]).stiffness[0]
+    d = 1e-5  # small: the discrete cavitation boundary must not cross a node between the two loads
+    up = PlainJournalBearing(**options, load=W * (1 + d)).coefficients([omega]).position[0]
+    down = PlainJournalBearing(**options, load=W * (1 - d)).coefficients([omega]).position[0]
+    np.testing.assert_allclose(K @ (up - down) / (2 * d * W), [0.0, -1.0], atol=1e-4)
+
+
 # -- (2) Someya's Journal-Bearing Databook, two-axial-groove bearing -------------------------------------------------
 # S, eps, phi (deg), kxx, kxy, kyx, kyy, bxx, bxy, byx, byy; x along the load, y at +90 deg in the direction of rotation
 SOMEYA = {

@@ -212,13 +212,11 @@ class PlainJournalBearing:
         f = plain(eps).force
         turn = math.atan2(target[1], target[0]) - math.atan2(f[1], f[0])
         position = eps * np.array([math.cos(turn), math.sin(turn)])
-        solution = solve_film(grid, position)
-        if self.grooves:
-            solution = self._newton(grid, solution, target)
-        return solution
+        # the grid is not invariant under the turn (nor are grooves): Newton polishes the turned guess
+        return self._newton(grid, solve_film(grid, position), target)
 
     def _newton(self, grid, solution, target, steps=40):
-        """Newton on the journal position until the grooved film's force equals ``target``."""
+        """Newton on the journal position until the discrete film's force equals ``target`` (to 1e-11)."""
         from .reynolds import _assemble, _complementarity, _force
 
         fixed = self._groove_mask(grid)
@@ -244,7 +242,8 @@ class PlainJournalBearing:
                 step /= 2
                 position = np.array(s.position) + step
             s = solve(position, s.full_film.ravel())
-        raise ParameterError("PlainJournalBearing: the grooved film's equilibrium did not converge")
+        raise ParameterError("PlainJournalBearing: the film's equilibrium did not converge in "
+                             f"{steps} Newton steps")
 
     def coefficients(self, speeds):
         """Static equilibrium and the eight coefficients at each speed.
