@@ -224,5 +224,37 @@ def test_linear_bearing_from_the_table_gives_the_modes_of_the_coefficients():
         np.testing.assert_allclose(np.sort_complex(lam), np.sort_complex(expected), rtol=1e-8)
 
 
-def test_lazy_export():
+def test_lazy_export_and_cheap_import():
+    import subprocess
+    import sys
+
     assert rotorkit.PlainJournalBearing is PlainJournalBearing
+    code = "import sys, rotorkit.fluidfilm; print('scipy' in sys.modules, 'sympy' in sys.modules)"
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.split() == ["False",
+                                                                                                            "False"]
+
+
+def test_docstring_examples():
+    import doctest
+
+    from rotorkit.fluidfilm import plain_journal, reynolds
+
+    for module in (plain_journal, reynolds):
+        failures, _ = doctest.testmod(module, verbose=False)
+        assert failures == 0
+
+
+def test_plot_draws_the_four_coefficients_on_the_given_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    table = PlainJournalBearing(**GOOD, n_theta=48, n_z=6).coefficients([300.0, 600.0])
+    fig, ax = plt.subplots()
+    lines = table.plot("damping", ax=ax, dimensionless=True)
+    assert [line.get_label() for line in lines] == ["cxx", "cxy", "cyx", "cyy"]
+    np.testing.assert_allclose(lines[0].get_ydata(), table.damping[:, 0, 0] * C * table.speeds / W)
+    with pytest.raises(ParameterError, match="kind"):
+        table.plot("mass", ax=ax)
+    plt.close(fig)

@@ -76,6 +76,26 @@ class BearingCoefficients:
         return {f: v * self.clearance / w * (1.0 if f[0] == "k" else self.speeds)
                 for f, v in self.as_dict().items()}
 
+    def plot(self, kind="stiffness", ax=None, dimensionless=False):
+        """The four ``kind`` ("stiffness" or "damping") coefficients against speed; returns the lines.
+
+        ``dimensionless=True`` plots ``K c / W`` or ``C c Omega / W`` (the Databook's ``k_ij``, ``b_ij``). Draws on
+        ``ax`` (default: the current axes).
+        """
+        import matplotlib.pyplot as plt
+
+        if kind not in ("stiffness", "damping"):
+            raise ParameterError(f"BearingCoefficients.plot: kind = {kind!r}: expected 'stiffness' or 'damping'")
+        ax = plt.gca() if ax is None else ax
+        values = self.dimensionless() if dimensionless else self.as_dict()
+        fields = _FIELDS[:4] if kind == "stiffness" else _FIELDS[4:]
+        lines = [ax.plot(self.speeds, values[f], marker="o", label=f)[0] for f in fields]
+        unit = "" if dimensionless else (" (N/m)" if kind == "stiffness" else " (N s/m)")
+        ax.set_xlabel("speed (rad/s)")
+        ax.set_ylabel(f"{kind}{unit}")
+        ax.legend()
+        return lines
+
     def to_linear_bearing(self, station, *, interpolation="pchip", extrapolation="hold", name=None, **options):
         """A :class:`~rotorkit.elements.linear_bearing.LinearBearing` tabulated at these speeds.
 
@@ -124,7 +144,7 @@ class PlainJournalBearing:
     ...                         load="5 kN")
     >>> op = b.coefficients(["3000 rpm"])
     >>> round(float(op.eccentricity_ratio[0]), 2)
-    0.52
+    0.57
     """
 
     diameter: float = None
