@@ -74,7 +74,8 @@ def someya(quick):
             k = TO_SOMEYA @ t.stiffness[0] @ TO_SOMEYA.T * C / W
             c = TO_SOMEYA @ t.damping[0] @ TO_SOMEYA.T * C * omega / W
             ks, cs = np.reshape(coefficients[:4], (2, 2)), np.reshape(coefficients[4:], (2, 2))
-            print(f"   {ld:<4} {eps:<4}  {t.eccentricity_ratio[0] - eps:+.4f}  {math.degrees(t.attitude_angle[0]) - phi:+.2f}"
+            d_eps, d_phi = t.eccentricity_ratio[0] - eps, math.degrees(t.attitude_angle[0]) - phi
+            print(f"   {ld:<4} {eps:<4}  {d_eps:+.4f}  {d_phi:+.2f}"
                   f"       {np.abs(k - ks).max() / np.abs(ks).max():.3f}          "
                   f"{np.abs(c - cs).max() / np.abs(cs).max():.3f}")
 

@@ -187,13 +187,14 @@ class PlainJournalBearing:
         return FilmGrid(slenderness=self.length / self.diameter, n_theta=self.n_theta, n_z=self.n_z)
 
     def _groove_mask(self, grid):
+        """The angles of ``grid`` inside a groove, shape (n_theta,), or None without grooves."""
         if not self.grooves:
             return None
         mask = np.zeros(grid.n_theta, bool)
         for centre, width in self.grooves:
             distance = np.abs((grid.theta - math.radians(centre) + math.pi) % (2 * math.pi) - math.pi)
             mask |= distance <= math.radians(width) / 2 + 1e-12
-        return np.repeat(mask, grid.n_z)
+        return mask
 
     def _force_scale(self, omega):
         """``mu Omega R^3 L / (2 c^2)`` (N): the dimensionless film force times this is the force."""
@@ -237,20 +238,8 @@ class PlainJournalBearing:
 
     def _newton(self, grid, solution, target, steps=40):
         """Newton on the journal position until the discrete film's force equals ``target`` (to 1e-11)."""
-        from .reynolds import _assemble, _complementarity, _force
-
-        fixed = self._groove_mask(grid)
-
-        def solve(position, free):
-            A, f = _assemble(grid, *position)
-            P, free = _complementarity(A, f, free, fixed=fixed)
-            from .reynolds import FilmSolution
-
-            shape = (grid.n_theta, grid.n_z)
-            return FilmSolution(grid=grid, position=tuple(position), velocity=(0.0, 0.0), pressure=P.reshape(shape),
-                                force=_force(grid, P), full_film=free.reshape(shape))
-
-        s = solve(np.array(solution.position), None)
+        ambient = self._groove_mask(grid)
+        s = solve_film(grid, solution.position, full_film=solution.full_film, ambient=ambient)
         for _ in range(steps):
             residual = s.force - target
             if np.hypot(*residual) < 1e-11 * np.hypot(*target):
@@ -261,7 +250,7 @@ class PlainJournalBearing:
             while np.hypot(*position) >= 0.995:  # stay inside the bore
                 step /= 2
                 position = np.array(s.position) + step
-            s = solve(position, s.full_film.ravel())
+            s = solve_film(grid, position, full_film=s.full_film, ambient=ambient)
         raise ParameterError("PlainJournalBearing: the film's equilibrium did not converge in "
                              f"{steps} Newton steps")
 

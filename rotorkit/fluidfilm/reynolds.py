@@ -1,4 +1,4 @@
-"""Finite-difference Reynolds equation of a plain journal bearing, with the Reynolds (Swift-Stieber) cavitation condition.
+"""Finite-difference Reynolds equation of a plain journal bearing, Reynolds (Swift-Stieber) cavitation condition.
 
 The film of a plain cylindrical bearing (radius ``R``, length ``L``, radial
 clearance ``c``, isoviscous oil ``mu``, journal spinning at ``Omega > 0``
@@ -195,7 +195,7 @@ def _force(grid, P):
     return -np.array([w @ cos, w @ sin])
 
 
-def solve_film(grid, position, velocity=(0.0, 0.0), full_film=None):
+def solve_film(grid, position, velocity=(0.0, 0.0), full_film=None, ambient=None):
     """The cavitated film and its force at a journal position and velocity (dimensionless).
 
     Parameters
@@ -207,6 +207,8 @@ def solve_film(grid, position, velocity=(0.0, 0.0), full_film=None):
         ``(X', Y')``, journal centre velocity over ``c Omega``.
     full_film : numpy.ndarray of bool, optional
         A first guess of the full-film nodes (e.g. a nearby solution's), fewer active-set steps.
+    ambient : numpy.ndarray of bool, shape (n_theta,), optional
+        Angles held at ``P = 0`` over the whole length (axial supply grooves at ambient pressure).
 
     Returns
     -------
@@ -218,7 +220,8 @@ def solve_film(grid, position, velocity=(0.0, 0.0), full_film=None):
         raise ParameterError(f"position = {position!r}: expected an eccentricity ratio sqrt(X^2 + Y^2) < 1")
     A, f = _assemble(grid, X, Y, Xd, Yd)
     guess = None if full_film is None else np.asarray(full_film, bool).ravel()
-    P, free = _complementarity(A, f, guess)
+    fixed = None if ambient is None else np.repeat(np.asarray(ambient, bool), grid.n_z)
+    P, free = _complementarity(A, f, guess, fixed=fixed)
     shape = (grid.n_theta, grid.n_z)
     return FilmSolution(grid=grid, position=(X, Y), velocity=(Xd, Yd), pressure=P.reshape(shape),
                         force=_force(grid, P), full_film=free.reshape(shape))
