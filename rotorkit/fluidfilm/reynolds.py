@@ -54,7 +54,7 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["FilmGrid", "FilmSolution", "solve_film"]
+__all__ = ["FilmGrid", "FilmSolution", "solve_film", "film_derivatives"]
 
 #: the coarsest grid accepted: fewer nodes do not resolve the converging wedge
 MIN_THETA, MIN_Z = 24, 4
