@@ -219,12 +219,33 @@ def solve_film(grid, position, velocity=(0.0, 0.0), full_film=None, ambient=None
     if not math.hypot(X, Y) < 1:
         raise ParameterError(f"position = {position!r}: expected an eccentricity ratio sqrt(X^2 + Y^2) < 1")
     A, f = _assemble(grid, X, Y, Xd, Yd)
+    if full_film is None:
+        full_film = _coarse_guess(grid, (X, Y), (Xd, Yd), ambient)
     guess = None if full_film is None else np.asarray(full_film, bool).ravel()
     fixed = None if ambient is None else np.repeat(np.asarray(ambient, bool), grid.n_z)
     P, free = _complementarity(A, f, guess, fixed=fixed)
     shape = (grid.n_theta, grid.n_z)
     return FilmSolution(grid=grid, position=(X, Y), velocity=(Xd, Yd), pressure=P.reshape(shape),
                         force=_force(grid, P), full_film=free.reshape(shape))
+
+
+def _coarse_guess(grid, position, velocity, ambient):
+    """The full-film nodes of the same film on a grid half as fine, on this grid's nodes (None if too coarse).
+
+    The active-set iteration moves the film boundary by about a node per step; starting from the coarse
+    grid's boundary (itself found from a coarser one) leaves it a step or two. The answer does not depend on
+    the guess (the complementarity problem has one solution), only the number of steps.
+    """
+    nt, nz = grid.n_theta // 2, grid.n_z // 2
+    if nt < MIN_THETA or nz < MIN_Z:
+        return None
+    coarse = FilmGrid(slenderness=grid.slenderness, n_theta=nt, n_z=nz)
+    i = np.rint(grid.theta / coarse.dtheta).astype(int) % nt
+    j = np.minimum(np.rint(np.arange(grid.n_z) * grid.dz / coarse.dz).astype(int), nz - 1)
+    ambient_coarse = None if ambient is None else np.asarray(ambient, bool)[np.rint(
+        coarse.theta / grid.dtheta).astype(int) % grid.n_theta]
+    full = solve_film(coarse, position, velocity, ambient=ambient_coarse).full_film
+    return full[np.ix_(i, j)]
 
 
 def film_derivatives(solution, step=1e-6):
