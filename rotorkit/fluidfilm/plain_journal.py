@@ -229,12 +229,14 @@ class PlainJournalBearing:
             raise ParameterError(f"PlainJournalBearing at {omega!r} rad/s: the load {np.hypot(*self.load)!r} N needs "
                                  f"an eccentricity ratio > {high} (Sommerfeld number {self.sommerfeld(omega):.3g}): "
                                  "too heavy a load or too low a speed for this film")
-        eps = brentq(lambda e: np.hypot(*plain(e).force) - magnitude, low, high, xtol=1e-11)
-        f = plain(eps).force
-        turn = math.atan2(target[1], target[0]) - math.atan2(f[1], f[0])
+        eps = brentq(lambda e: np.hypot(*plain(e).force) - magnitude, low, high, xtol=1e-7)
+        s = plain(eps)
+        turn = math.atan2(target[1], target[0]) - math.atan2(s.force[1], s.force[0])
         position = eps * np.array([math.cos(turn), math.sin(turn)])
-        # the grid is not invariant under the turn (nor are grooves): Newton polishes the turned guess
-        return self._newton(grid, solve_film(grid, position), target)
+        # the grid is not invariant under the turn (nor are grooves): Newton polishes the turned guess, its
+        # active set the (eps, 0) film's turned by the nearest number of nodes
+        free = np.roll(s.full_film, int(round(turn / grid.dtheta)), axis=0)
+        return self._newton(grid, solve_film(grid, position, full_film=free), target)
 
     def _newton(self, grid, solution, target, steps=40):
         """Newton on the journal position until the discrete film's force equals ``target`` (to 1e-11)."""
