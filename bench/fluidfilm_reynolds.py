@@ -4,7 +4,8 @@
 
 Prints
 1. the short-bearing limit: eccentricity, attitude and the coefficients against the closed form
-   (``JournalBearing.operating_point``) at L/D = 0.05, 0.1, 0.2 (default grid 72 x 12);
+   (``JournalBearing.operating_point``) at L/D = 0.05, 0.1, 0.2 (default grid 72 x 12), and how the stiffness
+   difference scatters with the grid at L/D = 0.1;
 2. Someya's Journal-Bearing Databook, two-axial-groove bearing (pp. 14 and 17; transcription in
    github.com/VictorLier/Tribology, Assignment2/Someya.py): for each printed Sommerfeld number, the differences in
    eccentricity ratio and attitude angle and the largest coefficient difference over the largest coefficient
@@ -62,6 +63,19 @@ def short_limit():
                   f"{math.degrees(t.attitude_angle[0] - op.attitude_angle):+.2f}      {dk:.3f}           {dc:.3f}")
 
 
+def grid_scatter():
+    print("1b. short-bearing limit, L/D = 0.1, S_s = 0.3: stiffness difference against the grid (n_z = 12)")
+    L = 0.1 * D
+    omega = 0.3 * 8 * W * C**2 / (MU * D * L**3)
+    op = JournalBearing(station=1, radius=D / 2, length=L, clearance=C, viscosity=MU).operating_point(load=W,
+                                                                                                    speed=omega)
+    for n_theta in (72, 96, 144):
+        t = PlainJournalBearing(diameter=D, length=L, clearance=C, viscosity=MU, load=W,
+                                n_theta=n_theta).coefficients([omega])
+        dk = np.abs(t.stiffness[0] - op.stiffness).max() / np.abs(op.stiffness).max()
+        print(f"   n_theta = {n_theta:<4} max|dK|/max|K| = {dk:.3f}")
+
+
 def someya(quick):
     print("2. Someya two-axial-groove bearing (grooves 10 deg at +-90 deg from the load, grid 120 x 16)")
     print("   L/D  eps   d_eps    dphi[deg]  K: max|d|/max  C: max|d|/max")
@@ -105,5 +119,6 @@ def timings(repeats):
 if __name__ == "__main__":
     quick = "--quick" in sys.argv
     short_limit()
+    grid_scatter()
     someya(quick)
     timings(5 if quick else 20)
