@@ -131,7 +131,8 @@ class PlainJournalBearing:
     viscosity : float or pint.Quantity or str
         Dynamic viscosity mu (Pa s), > 0.
     load : float, pint.Quantity, str or (float, float)
-        Static load on the journal: a magnitude (N, > 0) acting in ``-y``, or the vector ``(F_x, F_y)`` (N).
+        Static load on the journal: a magnitude (N, > 0) acting in ``-y``, or the vector ``(F_x, F_y)`` (N);
+        stored as the vector, a tuple of floats.
     grooves : tuple of (float, float)
         Axial supply grooves held at ambient pressure: ``(centre, width)`` in degrees, the centre measured
         from ``+x`` about ``+z`` (fixed in the bore). Default none: a plain 360 degree film.
@@ -166,7 +167,7 @@ class PlainJournalBearing:
         if not self.clearance < self.diameter / 2:
             raise ParameterError(f"{who}: clearance = {self.clearance!r} m: expected less than the radius "
                                  f"{self.diameter / 2!r} m")
-        object.__setattr__(self, "load", _load_vector(self.load, who))
+        object.__setattr__(self, "load", tuple(float(v) for v in _load_vector(self.load, who)))  # hashable
         grooves = []
         for k, groove in enumerate(self.grooves):
             try:
@@ -215,7 +216,7 @@ class PlainJournalBearing:
 
         omega = _speed(speed)
         grid = self.grid
-        target = -self.load / self._force_scale(omega)  # dimensionless film force wanted
+        target = -np.array(self.load) / self._force_scale(omega)  # dimensionless film force wanted
         magnitude = float(np.hypot(*target))
         guess = {"free": None}
 
@@ -288,7 +289,7 @@ class PlainJournalBearing:
             pos[k] = (X * self.clearance, Y * self.clearance)
             S[k] = self.sommerfeld(omega)
         return BearingCoefficients(speeds=omegas, sommerfeld=S, eccentricity_ratio=eps, attitude_angle=phi,
-                                   position=pos, stiffness=K, damping=C, load=self.load.copy(),
+                                   position=pos, stiffness=K, damping=C, load=np.array(self.load),
                                    clearance=self.clearance)
 
     def to_linear_bearing(self, speeds, station, *, interpolation="pchip", extrapolation="hold", name=None,
