@@ -218,6 +218,11 @@ def test_too_heavy_a_load_is_a_named_error():
         PlainJournalBearing(**{**GOOD, "load": 1e7}).coefficients([10.0])
 
 
+def test_too_light_a_load_is_a_named_error():
+    with pytest.raises(ParameterError, match="too light a load"):
+        PlainJournalBearing(**{**GOOD, "load": 1e-9, "n_theta": 48, "n_z": 6}).coefficients([1000.0])
+
+
 def test_units_at_the_boundary():
     a = PlainJournalBearing(diameter="100 mm", length="5 cm", clearance="100 um", viscosity="30 mPa*s", load="5 kN",
                             n_theta=48, n_z=6)
@@ -240,6 +245,7 @@ def test_linear_bearing_from_the_table_gives_the_modes_of_the_coefficients():
     at = b.coefficients([400.0])  # computed again, on its own
     K, Cm = at.stiffness[0], at.damping[0]
     by_hand = rotorkit.LinearBearing(station=1, **{f: float(v[0]) for f, v in at.as_dict().items()})
+    assert at.to_linear_bearing(station=1) == by_hand  # one speed: constant coefficients
     expected = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)], [-K / mass, -Cm / mass]]))
     for bearing_element in (lb, by_hand):
         model = rotorkit.Model([Rotor(name="R", stations=(1,), speed=400.0), LumpedMass(station=1, mass=mass),

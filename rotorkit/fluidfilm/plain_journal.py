@@ -97,7 +97,7 @@ class BearingCoefficients:
         return lines
 
     def to_linear_bearing(self, station, *, interpolation="pchip", extrapolation="hold", name=None, **options):
-        """A :class:`~rotorkit.elements.linear_bearing.LinearBearing` tabulated at these speeds.
+        """A :class:`~rotorkit.elements.linear_bearing.LinearBearing` tabulated at these speeds (constant at one).
 
         ``interpolation`` ("pchip" by default: monotone between the computed points) and ``extrapolation``
         ("hold") as in :meth:`LinearBearing.tabulated`; ``options`` go there too (``other_station``,
@@ -105,6 +105,9 @@ class BearingCoefficients:
         """
         from ..elements.linear_bearing import LinearBearing
 
+        if self.speeds.size == 1:  # one speed: constant coefficients, no table
+            return LinearBearing(station=station, name=name, **options,
+                                 **{f: float(v[0]) for f, v in self.as_dict().items()})
         table = {f: [float(v) for v in values] for f, values in self.as_dict().items()}
         return LinearBearing.tabulated(station=station, speeds=[float(w) for w in self.speeds], name=name,
                                        interpolation=interpolation, extrapolation=extrapolation, **options, **table)
@@ -230,6 +233,10 @@ class PlainJournalBearing:
             raise ParameterError(f"PlainJournalBearing at {omega!r} rad/s: the load {np.hypot(*self.load)!r} N needs "
                                  f"an eccentricity ratio > {high} (Sommerfeld number {self.sommerfeld(omega):.3g}): "
                                  "too heavy a load or too low a speed for this film")
+        if np.hypot(*plain(low).force) > magnitude:
+            raise ParameterError(f"PlainJournalBearing at {omega!r} rad/s: the load {np.hypot(*self.load)!r} N is "
+                                 f"carried at an eccentricity ratio < {low} (Sommerfeld number "
+                                 f"{self.sommerfeld(omega):.3g}): too light a load for a static equilibrium")
         eps = brentq(lambda e: np.hypot(*plain(e).force) - magnitude, low, high, xtol=1e-7)
         s = plain(eps)
         turn = math.atan2(target[1], target[0]) - math.atan2(s.force[1], s.force[0])
