@@ -37,6 +37,7 @@ _LAZY = {
     "available_backends": "system",
     "reduce": "reduction",
     "ReducedSystem": "reduction",
+    "PlainJournalBearing": "fluidfilm.plain_journal",
 }
 
 
@@ -90,6 +91,7 @@ __all__ = [
     "available_backends",
     "reduce",
     "ReducedSystem",
+    "PlainJournalBearing",
     "campbell",
     "Unbalance",
     "unbalance_response",

@@ -1,0 +1,124 @@
+"""Finite-difference plain journal bearing: verification figures and solve times, all from one run.
+
+    python bench/fluidfilm_reynolds.py [--quick]
+
+Prints
+1. the short-bearing limit: eccentricity, attitude and the coefficients against the closed form
+   (``JournalBearing.operating_point``) at L/D = 0.05, 0.1, 0.2 (default grid 72 x 12), and how the stiffness
+   difference scatters with the grid at L/D = 0.1;
+2. Someya's Journal-Bearing Databook, two-axial-groove bearing (pp. 14 and 17; transcription in
+   github.com/VictorLier/Tribology, Assignment2/Someya.py): for each printed Sommerfeld number, the differences in
+   eccentricity ratio and attitude angle and the largest coefficient difference over the largest coefficient
+   (stiffness, damping), grooves 10 degrees wide at +-90 degrees from the load, grid 120 x 16;
+3. medians of one cavitated film solve on a 60 x 20 grid and of ``coefficients`` per speed, with the load average.
+"""
+
+import math
+import os
+import statistics
+import sys
+import time
+
+import numpy as np
+
+from rotorkit.elements.journal_bearing import JournalBearing
+from rotorkit.fluidfilm import FilmGrid, PlainJournalBearing, solve_film
+
+D, C, MU, W = 0.1, 1e-4, 0.03, 5000.0
+SOMEYA = {  # S, eps, phi, kxx, kxy, kyx, kyy, bxx, bxy, byx, byy (x along the load)
+    0.5: [(2.07, 0.2, 71.6, 1.88, 5.63, -4.41, 2.56, 11.2, 2.22, 2.22, 6.43),
+          (1.24, 0.3, 64.1, 2.07, 4.27, -2.56, 2.34, 8.50, 2.32, 2.32, 4.73),
+          (0.798, 0.4, 57.5, 2.39, 3.75, -1.57, 2.17, 7.32, 2.24, 2.24, 3.50),
+          (0.517, 0.5, 51.1, 2.89, 3.57, -0.924, 2.03, 6.81, 2.10, 2.10, 2.60),
+          (0.323, 0.6, 44.7, 3.65, 3.62, -0.427, 1.92, 6.81, 2.08, 2.08, 2.06),
+          (0.187, 0.7, 38.2, 4.92, 3.88, 0.0235, 1.83, 7.32, 2.16, 2.16, 1.70),
+          (0.0926, 0.8, 31.2, 7.35, 4.46, 0.527, 1.78, 8.17, 2.05, 2.05, 1.24),
+          (0.0315, 0.9, 22.7, 13.8, 5.76, 1.24, 1.72, 10.6, 2.03, 2.03, 0.846)],
+    1.0: [(0.689, 0.2, 69.9, 1.99, 5.45, -4.38, 2.56, 11.3, 1.78, 1.78, 4.39),
+          (0.424, 0.3, 61.0, 2.20, 3.96, -2.52, 2.31, 8.67, 1.99, 1.99, 3.50),
+          (0.284, 0.4, 54.6, 2.37, 3.34, -1.60, 2.06, 7.57, 2.10, 2.09, 2.94),
+          (0.194, 0.5, 49.1, 2.67, 3.09, -1.00, 1.89, 6.99, 2.00, 2.00, 2.31),
+          (0.131, 0.6, 43.8, 3.19, 3.06, -0.553, 1.77, 6.69, 1.82, 1.82, 1.74),
+          (0.0828, 0.7, 38.4, 4.16, 3.29, -0.0851, 1.75, 7.07, 2.00, 2.00, 1.59),
+          (0.0469, 0.8, 32.1, 6.10, 3.82, 0.420, 1.74, 8.08, 2.15, 2.15, 1.34),
+          (0.0195, 0.9, 25.0, 11.9, 5.28, 1.32, 1.80, 10.1, 2.06, 2.06, 0.916)],
+}
+TO_SOMEYA = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+def short_limit():
+    print("1. short-bearing limit (default grid 72 x 12)")
+    print("   L/D   S_s   eps_fd  eps_closed  dphi[deg]  max|dK|/max|K|  max|dC|/max|C|")
+    for ld in (0.05, 0.1, 0.2):
+        L = ld * D
+        b = PlainJournalBearing(diameter=D, length=L, clearance=C, viscosity=MU, load=W)
+        jb = JournalBearing(station=1, radius=D / 2, length=L, clearance=C, viscosity=MU)
+        for ss in (0.3, 0.1):
+            omega = ss * 8 * W * C**2 / (MU * D * L**3)
+            t = b.coefficients([omega])
+            op = jb.operating_point(load=W, speed=omega)
+            dk = np.abs(t.stiffness[0] - op.stiffness).max() / np.abs(op.stiffness).max()
+            dc = np.abs(t.damping[0] - op.damping).max() / np.abs(op.damping).max()
+            print(f"   {ld:<5} {ss:<5} {t.eccentricity_ratio[0]:.4f}  {op.eccentricity_ratio:.4f}      "
+                  f"{math.degrees(t.attitude_angle[0] - op.attitude_angle):+.2f}      {dk:.3f}           {dc:.3f}")
+
+
+def grid_scatter():
+    print("1b. short-bearing limit, L/D = 0.1, S_s = 0.3: stiffness difference against the grid (n_z = 12)")
+    L = 0.1 * D
+    omega = 0.3 * 8 * W * C**2 / (MU * D * L**3)
+    op = JournalBearing(station=1, radius=D / 2, length=L, clearance=C, viscosity=MU).operating_point(load=W,
+                                                                                                    speed=omega)
+    for n_theta in (72, 96, 144):
+        t = PlainJournalBearing(diameter=D, length=L, clearance=C, viscosity=MU, load=W,
+                                n_theta=n_theta).coefficients([omega])
+        dk = np.abs(t.stiffness[0] - op.stiffness).max() / np.abs(op.stiffness).max()
+        print(f"   n_theta = {n_theta:<4} max|dK|/max|K| = {dk:.3f}")
+
+
+def someya(quick):
+    print("2. Someya two-axial-groove bearing (grooves 10 deg at +-90 deg from the load, grid 120 x 16)")
+    print("   L/D  eps   d_eps    dphi[deg]  K: max|d|/max  C: max|d|/max")
+    for ld, rows in SOMEYA.items():
+        b = PlainJournalBearing(diameter=D, length=ld * D, clearance=C, viscosity=MU, load=W,
+                                grooves=((0.0, 10.0), (180.0, 10.0)), n_theta=120, n_z=16)
+        for s, eps, phi, *coefficients in rows[::3] if quick else rows:
+            omega = s * W * 2 * math.pi / (MU * ld * D * D * (D / 2 / C) ** 2)
+            t = b.coefficients([omega])
+            k = TO_SOMEYA @ t.stiffness[0] @ TO_SOMEYA.T * C / W
+            c = TO_SOMEYA @ t.damping[0] @ TO_SOMEYA.T * C * omega / W
+            ks, cs = np.reshape(coefficients[:4], (2, 2)), np.reshape(coefficients[4:], (2, 2))
+            d_eps, d_phi = t.eccentricity_ratio[0] - eps, math.degrees(t.attitude_angle[0]) - phi
+            print(f"   {ld:<4} {eps:<4}  {d_eps:+.4f}  {d_phi:+.2f}"
+                  f"       {np.abs(k - ks).max() / np.abs(ks).max():.3f}          "
+                  f"{np.abs(c - cs).max() / np.abs(cs).max():.3f}")
+
+
+def _median_times(fn, repeats):
+    """(wall, cpu) medians in seconds: the cpu time of this process is less sensitive to a shared machine's load."""
+    wall, cpu = [], []
+    for _ in range(repeats):
+        w0, c0 = time.perf_counter(), time.process_time()
+        fn()
+        wall.append(time.perf_counter() - w0)
+        cpu.append(time.process_time() - c0)
+    return statistics.median(wall), statistics.median(cpu)
+
+
+def timings(repeats):
+    print(f"3. times (load average {os.getloadavg()[0]:.1f}, medians of {repeats} runs, wall / cpu)")
+    grid = FilmGrid(slenderness=0.5, n_theta=60, n_z=20)
+    solve_film(grid, (0.6, 0.0))
+    wall, cpu = _median_times(lambda: solve_film(grid, (0.6, 0.0)), repeats)
+    print(f"   one cavitated film, 60 x 20 grid: {wall * 1e3:.1f} / {cpu * 1e3:.1f} ms")
+    b = PlainJournalBearing(diameter=D, length=0.5 * D, clearance=C, viscosity=MU, load=W)
+    wall, cpu = _median_times(lambda: b.coefficients([500.0]), max(3, repeats // 5))
+    print(f"   equilibrium + eight coefficients, 72 x 12 grid: {wall * 1e3:.0f} / {cpu * 1e3:.0f} ms per speed")
+
+
+if __name__ == "__main__":
+    quick = "--quick" in sys.argv
+    short_limit()
+    grid_scatter()
+    someya(quick)
+    timings(5 if quick else 20)

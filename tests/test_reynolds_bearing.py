@@ -1,0 +1,292 @@
+"""Plain journal bearing from the finite-difference Reynolds equation, against closed forms and published tables.
+
+- Small ``L/D`` (0.1, 0.2): the finite bearing tends to the short (Ocvirk) bearing with the pi film, so the
+  eccentricity ratio and attitude angle equal the closed form
+  (:func:`rotorkit.elements.journal_bearing.short_bearing_eccentricity`) and the eight coefficients equal the
+  printed Ocvirk closed forms (Friswell et al. 2010, section 5.5) and those of the nonlinear short-bearing element
+  :class:`rotorkit.elements.JournalBearing` (the Jacobian of its film force), within tolerances proportional to
+  ``L/D`` (the neglected circumferential pressure flow): ``0.06 L/D`` in eps, ``3 L/D`` degrees in attitude,
+  ``0.3 L/D`` of the largest coefficient, on a 144 x 12 grid. Measured: about half of each tolerance. The
+  coefficients scatter by 1 to 2 % with the grid (not monotonically: the discrete cavitation boundary, in a layer
+  about ``L/R`` wide at small ``L/D``); on the default 72-node grid the coefficients at ``L/D = 0.1`` use 90 % of
+  the tolerance (bench/fluidfilm_reynolds.py).
+- ``L/D = 0.5`` and ``1``: Someya (ed.), *Journal-Bearing Databook*, Springer 1989, two-axial-groove bearing,
+  tables on pp. 14 (L/D = 0.5) and 17 (L/D = 1), as transcribed in github.com/VictorLier/Tribology,
+  ``Assignment2/Someya.py``; the grooves (ambient pressure) at +-90 degrees from the load, 10 degrees wide (an
+  assumption: the transcription does not give the width). Eccentricity ratio and attitude angle at the printed
+  Sommerfeld number; the coefficients at a looser, documented tolerance (see docs/fluid-film-bearings.md).
+- Grid convergence: doubling the grid changes the results by less than stated tolerances.
+- A Jeffcott rotor on the tabulated LinearBearing has the eigenvalues of ``[[0, I], [-K/m, -C/m]]`` with the
+  coefficients at the rotor speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import rotorkit
+from rotorkit import ParameterError, UnitError
+from rotorkit.elements import JournalBearing, LumpedMass, Rotor
+from rotorkit.elements.journal_bearing import short_bearing_eccentricity
+from rotorkit.fluidfilm import FilmGrid, PlainJournalBearing, solve_film
+
+D, C, MU, W = 0.1, 1e-4, 0.03, 5000.0
+
+
+def bearing(slenderness, **options):
+    return PlainJournalBearing(diameter=D, length=slenderness * D, clearance=C, viscosity=MU, load=W, **options)
+
+
+def speed_for_modified_sommerfeld(ss, slenderness):
+    """Omega giving ``S_s = mu D Omega L^3 / (8 W c^2)``."""
+    return ss * 8 * W * C**2 / (MU * D * (slenderness * D) ** 3)
+
+
+def speed_for_sommerfeld(s, slenderness):
+    """Omega giving ``S = mu N L D (R/c)^2 / W``."""
+    return s * W * 2 * math.pi / (MU * slenderness * D * D * (D / 2 / C) ** 2)
+
+
+# -- (1) the short-bearing limit -------------------------------------------------------------------------------
+def ocvirk_coefficients(eps):
+    """Dimensionless short-bearing (pi film) ``K c / W`` and ``C c Omega / W`` in ``(x, y)``, load along ``-y``.
+
+    Friswell, Penny, Garvey & Lees, *Dynamics of Rotating Machines* (2010), section 5.5.
+    """
+    pi, e2 = math.pi, eps * eps
+    h0 = 1 / (pi**2 * (1 - e2) + 16 * e2) ** 1.5
+    root = math.sqrt(1 - e2)
+    k = h0 * np.array([[4 * (pi**2 * (2 - e2) + 16 * e2), pi * (pi**2 * (1 - e2) ** 2 - 16 * e2**2) / (eps * root)],
+                       [-pi * (pi**2 * (1 - e2) * (1 + 2 * e2) + 32 * e2 * (1 + e2)) / (eps * root),
+                        4 * (pi**2 * (1 + 2 * e2) + 32 * e2 * (1 + e2) / (1 - e2))]])
+    b_xy = -8 * (pi**2 * (1 + 2 * e2) - 16 * e2)
+    b = h0 * np.array([[2 * pi * root * (pi**2 * (1 + 2 * e2) - 16 * e2) / eps, b_xy],
+                       [b_xy, 2 * pi * (pi**2 * (1 - e2) ** 2 + 48 * e2) / (eps * root)]])
+    return k, b
+
+
+@pytest.mark.parametrize("slenderness", [0.1, 0.2])
+@pytest.mark.parametrize("ss", [0.3, 0.1])
+def test_small_slenderness_equals_short_bearing_closed_form(slenderness, ss):
+    omega = speed_for_modified_sommerfeld(ss, slenderness)
+    table = bearing(slenderness, n_theta=144).coefficients([omega])
+    eps, phi = short_bearing_eccentricity(ss)
+    assert abs(table.eccentricity_ratio[0] - eps) < 0.06 * slenderness
+    assert abs(math.degrees(table.attitude_angle[0] - phi)) < 3.0 * slenderness
+    short = JournalBearing(station=1, radius=D / 2, length=slenderness * D, clearance=C, viscosity=MU)
+    op = short.operating_point(load=W, speed=omega)
+    np.testing.assert_allclose(op.eccentricity_ratio, eps, rtol=1e-9)  # the element is the closed form
+    for fd, closed in ((table.stiffness[0], op.stiffness), (table.damping[0], op.damping)):
+        assert np.abs(fd - closed).max() < 0.3 * slenderness * np.abs(closed).max()
+    np.testing.assert_allclose(table.position[0], op.position, atol=0.06 * slenderness * C)
+    k, b = ocvirk_coefficients(eps)  # the printed closed forms, independent of the element
+    np.testing.assert_allclose(op.stiffness * C / W, k, rtol=1e-9)
+    np.testing.assert_allclose(op.damping * C * omega / W, b, rtol=1e-9)
+    assert np.abs(table.stiffness[0] * C / W - k).max() < 0.3 * slenderness * np.abs(k).max()
+    assert np.abs(table.damping[0] * C * omega / W - b).max() < 0.3 * slenderness * np.abs(b).max()
+
+
+def test_cavitated_film_has_the_pi_film_attitude_not_the_full_film_one():
+    """At eps = 0.5, L/D = 0.1 the attitude is the pi film's atan(pi sqrt(1 - eps^2) / (4 eps)) = 53.8 deg (a full
+    film would give 90 deg); about half the film is cavitated and no pressure is negative."""
+    sol = solve_film(FilmGrid(slenderness=0.1), (0.5, 0.0))
+    assert 0.4 < sol.full_film.mean() < 0.65
+    assert np.all(sol.pressure >= 0)
+    phi = -math.atan2(-sol.force[1], -sol.force[0])  # from the load (-force) to the eccentricity (+x)
+    assert abs(math.degrees(phi - math.atan2(math.pi * math.sqrt(0.75), 2.0))) < 0.5
+
+
+def test_coefficients_equal_finite_differences_of_the_cavitated_film():
+    """Holding the cavitation boundary (film_derivatives) gives the derivatives of the full complementarity
+    solution, whose boundary moves: the Reynolds condition makes that motion second order."""
+    from rotorkit.fluidfilm.reynolds import film_derivatives
+
+    grid = FilmGrid(slenderness=0.5, n_theta=48, n_z=8)
+    sol = solve_film(grid, (0.35, -0.45))
+    J = film_derivatives(sol)
+    h = 1e-5
+    for col in range(4):
+        e = np.zeros(4)
+        e[col] = h
+        plus = solve_film(grid, np.add(sol.position, e[:2]), e[2:]).force
+        minus = solve_film(grid, np.subtract(sol.position, e[:2]), -e[2:]).force
+        np.testing.assert_allclose((plus - minus) / (2 * h), J[:, col], atol=1e-5 * np.abs(J).max())
+
+
+def test_stiffness_maps_the_static_locus():
+    """K times the journal's displacement per unit of extra load is the load direction (0, -1)."""
+    omega = speed_for_sommerfeld(0.3, 0.5)
+    options = dict(diameter=D, length=0.5 * D, clearance=C, viscosity=MU, n_theta=48, n_z=8)
+    K = PlainJournalBearing(**options, load=W).coefficients([omega]).stiffness[0]
+    d = 1e-5  # small: the discrete cavitation boundary must not cross a node between the two loads
+    up = PlainJournalBearing(**options, load=W * (1 + d)).coefficients([omega]).position[0]
+    down = PlainJournalBearing(**options, load=W * (1 - d)).coefficients([omega]).position[0]
+    np.testing.assert_allclose(K @ (up - down) / (2 * d * W), [0.0, -1.0], atol=1e-4)
+
+
+# -- (2) Someya's Journal-Bearing Databook, two-axial-groove bearing -------------------------------------------------
+# S, eps, phi (deg), kxx, kxy, kyx, kyy, bxx, bxy, byx, byy; x along the load, y at +90 deg in the direction of rotation
+SOMEYA = {
+    0.5: [(1.24, 0.300, 64.1, 2.07, 4.27, -2.56, 2.34, 8.50, 2.32, 2.32, 4.73),
+          (0.323, 0.600, 44.7, 3.65, 3.62, -0.427, 1.92, 6.81, 2.08, 2.08, 2.06),
+          (0.0926, 0.800, 31.2, 7.35, 4.46, 0.527, 1.78, 8.17, 2.05, 2.05, 1.24)],
+    1.0: [(0.424, 0.300, 61.0, 2.20, 3.96, -2.52, 2.31, 8.67, 1.99, 1.99, 3.50),
+          (0.131, 0.600, 43.8, 3.19, 3.06, -0.553, 1.77, 6.69, 1.82, 1.82, 1.74),
+          (0.0469, 0.800, 32.1, 6.10, 3.82, 0.420, 1.74, 8.08, 2.15, 2.15, 1.34)],
+}
+TO_SOMEYA = np.array([[0.0, -1.0], [1.0, 0.0]])  # (x_s, y_s) = (-y, x): load along -y here
+
+
+@pytest.mark.parametrize("slenderness", [0.5, 1.0])
+def test_someya_two_axial_groove_bearing(slenderness):
+    b = bearing(slenderness, grooves=((0.0, 10.0), (180.0, 10.0)), n_theta=96, n_z=12)
+    for s, eps, phi, *coefficients in SOMEYA[slenderness]:
+        omega = speed_for_sommerfeld(s, slenderness)
+        table = b.coefficients([omega])
+        assert abs(table.eccentricity_ratio[0] - eps) < 0.005
+        assert abs(math.degrees(table.attitude_angle[0]) - phi) < 1.0
+        k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
+        c = TO_SOMEYA @ table.damping[0] @ TO_SOMEYA.T * C * omega / W
+        k_s, c_s = np.reshape(coefficients[:4], (2, 2)), np.reshape(coefficients[4:], (2, 2))
+        assert np.all(np.sign(k) == np.sign(k_s))
+        tol_k = 0.25 if eps < 0.5 else 0.15  # of the largest coefficient; see the docs for the row-by-row figures
+        assert np.abs(k - k_s).max() < tol_k * np.abs(k_s).max()
+        assert np.abs(c - c_s).max() < 0.08 * np.abs(c_s).max()
+        np.testing.assert_allclose(table.dimensionless()["kxy"], table.stiffness[0][0, 1] * C / W)
+
+
+def test_grooveless_bearing_is_rotationally_symmetric():
+    """A plain 360 deg film: the load turned by 30 deg turns the whole solution by 30 deg."""
+    omega = speed_for_sommerfeld(0.2, 0.5)
+    a = bearing(0.5).coefficients([omega])
+    turn = math.radians(30.0)
+    Q = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    b = PlainJournalBearing(diameter=D, length=0.5 * D, clearance=C, viscosity=MU, load=tuple(Q @ [0.0, -W]))
+    t = b.coefficients([omega])
+    np.testing.assert_allclose(t.eccentricity_ratio, a.eccentricity_ratio, rtol=1e-3)
+    np.testing.assert_allclose(t.attitude_angle, a.attitude_angle, atol=2e-3)
+    np.testing.assert_allclose(t.stiffness[0], Q @ a.stiffness[0] @ Q.T, atol=2e-2 * np.abs(a.stiffness).max())
+
+
+# -- (3) grid convergence --------------------------------------------------------------------------------------------
+def test_grid_refinement_changes_results_little():
+    omega = speed_for_sommerfeld(0.3, 0.5)
+    coarse = bearing(0.5).coefficients([omega])  # default 72 x 12
+    fine = bearing(0.5, n_theta=144, n_z=24).coefficients([omega])
+    assert abs(coarse.eccentricity_ratio[0] - fine.eccentricity_ratio[0]) < 2e-3
+    assert abs(math.degrees(coarse.attitude_angle[0] - fine.attitude_angle[0])) < 0.2
+    for a, b in ((coarse.stiffness[0], fine.stiffness[0]), (coarse.damping[0], fine.damping[0])):
+        assert np.abs(a - b).max() < 0.02 * np.abs(b).max()
+
+
+# -- (4) bad input ------------------------------------------------------------------------------------------------
+GOOD = dict(diameter=D, length=0.05, clearance=C, viscosity=MU, load=W)
+
+
+@pytest.mark.parametrize("change, error, match", [
+    ({"viscosity": -0.01}, ParameterError, "viscosity"),
+    ({"clearance": 0.0}, ParameterError, "clearance"),
+    ({"clearance": 0.06}, ParameterError, "clearance .* less than the radius"),
+    ({"load": 0.0}, ParameterError, "load"),
+    ({"load": -10.0}, ParameterError, "load"),
+    ({"load": (0.0, 0.0)}, ParameterError, "load"),
+    ({"length": 0.0}, ParameterError, "length"),
+    ({"diameter": -0.1}, ParameterError, "diameter"),
+    ({"length": "5 s"}, UnitError, "length"),
+    ({"n_theta": 8}, ParameterError, "grid too coarse"),
+    ({"n_z": 2}, ParameterError, "grid too coarse"),
+    ({"grooves": ((0.0, 0.0),)}, ParameterError, "grooves"),
+    ({"viscosity": None}, ParameterError, "viscosity is required"),
+])
+def test_bad_input_raises_named_errors(change, error, match):
+    with pytest.raises(error, match=match):
+        PlainJournalBearing(**{**GOOD, **change})
+
+
+@pytest.mark.parametrize("speeds, match", [([0.0], "speed"), ([-100.0], "speed"), ([200.0, 100.0], "increasing"),
+                                           ([], "one or more")])
+def test_bad_speeds(speeds, match):
+    with pytest.raises(ParameterError, match=match):
+        PlainJournalBearing(**GOOD).coefficients(speeds)
+
+
+def test_too_heavy_a_load_is_a_named_error():
+    with pytest.raises(ParameterError, match="eccentricity ratio > 0.995"):
+        PlainJournalBearing(**{**GOOD, "load": 1e7}).coefficients([10.0])
+
+
+def test_too_light_a_load_is_a_named_error():
+    with pytest.raises(ParameterError, match="too light a load"):
+        PlainJournalBearing(**{**GOOD, "load": 1e-9, "n_theta": 48, "n_z": 6}).coefficients([1000.0])
+
+
+def test_units_at_the_boundary():
+    a = PlainJournalBearing(diameter="100 mm", length="5 cm", clearance="100 um", viscosity="30 mPa*s", load="5 kN",
+                            n_theta=48, n_z=6)
+    b = PlainJournalBearing(**GOOD, n_theta=48, n_z=6)
+    assert (a.diameter, a.length, a.clearance, a.viscosity) == pytest.approx((b.diameter, b.length, b.clearance,
+                                                                             b.viscosity))
+    ta, tb = a.coefficients(["3000 rpm"]), b.coefficients([3000 * math.pi / 30])
+    np.testing.assert_allclose(ta.stiffness, tb.stiffness, rtol=1e-9)
+
+
+# -- (5) the LinearBearing it builds, in a model ---------------------------------------------------------------------
+def test_linear_bearing_from_the_table_gives_the_modes_of_the_coefficients():
+    from rotorkit.analysis.modes import linearize
+
+    mass = 80.0
+    speeds = [200.0, 400.0, 600.0]
+    b = PlainJournalBearing(**GOOD, n_theta=48, n_z=8)
+    lb = b.to_linear_bearing(speeds, station=1)
+    assert lb.interpolation == "pchip" and lb.speeds == tuple(speeds)
+    at = b.coefficients([400.0])  # computed again, on its own
+    K, Cm = at.stiffness[0], at.damping[0]
+    by_hand = rotorkit.LinearBearing(station=1, **{f: float(v[0]) for f, v in at.as_dict().items()})
+    assert at.to_linear_bearing(station=1) == by_hand  # one speed: constant coefficients
+    expected = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)], [-K / mass, -Cm / mass]]))
+    for bearing_element in (lb, by_hand):
+        model = rotorkit.Model([Rotor(name="R", stations=(1,), speed=400.0), LumpedMass(station=1, mass=mass),
+                                bearing_element])
+        system = model.compile(backend="python")
+        A = linearize(system, np.zeros(len(system.coordinate_names)), t=0.0, method="analytic")[0]
+        lam = np.linalg.eigvals(A)
+        np.testing.assert_allclose(np.sort_complex(lam), np.sort_complex(expected), rtol=1e-8)
+
+
+def test_lazy_export_and_cheap_import():
+    import subprocess
+    import sys
+
+    assert rotorkit.PlainJournalBearing is PlainJournalBearing
+    code = "import sys, rotorkit.fluidfilm; print('scipy' in sys.modules, 'sympy' in sys.modules)"
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.split() == ["False",
+                                                                                                            "False"]
+
+
+def test_docstring_examples():
+    import doctest
+
+    from rotorkit.fluidfilm import plain_journal, reynolds
+
+    for module in (plain_journal, reynolds):
+        failures, _ = doctest.testmod(module, verbose=False)
+        assert failures == 0
+
+
+def test_plot_draws_the_four_coefficients_on_the_given_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    table = PlainJournalBearing(**GOOD, n_theta=48, n_z=6).coefficients([300.0, 600.0])
+    fig, ax = plt.subplots()
+    lines = table.plot("damping", ax=ax, dimensionless=True)
+    assert [line.get_label() for line in lines] == ["cxx", "cxy", "cyx", "cyy"]
+    np.testing.assert_allclose(lines[0].get_ydata(), table.damping[:, 0, 0] * C * table.speeds / W)
+    with pytest.raises(ParameterError, match="kind"):
+        table.plot("mass", ax=ax)
+    plt.close(fig)
