@@ -309,3 +309,18 @@ def test_linear_package_entries():
         assert callable(function) and f":func:`{entry}`" in rotorkit.linear.__doc__, entry
         if entry in rotorkit.__all__:
             assert getattr(rotorkit, entry) is function
+
+
+def test_every_package_is_installed():
+    """Each folder of rotorkit with an ``__init__.py`` is listed in pyproject's packages (else a
+    non-editable install, as in CI, lacks it)."""
+    import tomllib
+
+    root = Path(__file__).resolve().parents[1]
+    listed = set(tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    found = {
+        ".".join(p.parent.relative_to(root).parts)
+        for p in (root / "rotorkit").rglob("__init__.py")
+        if "__pycache__" not in p.parts
+    }
+    assert found - listed == set(), f"add to pyproject.toml [tool.setuptools] packages: {sorted(found - listed)}"
