@@ -13,7 +13,7 @@ import pytest
 
 import rotorkit as rk
 from rotorkit.cli import main
-from rotorkit.elements import BeamSegment, LinearBearing, Material
+from rotorkit.elements import BallBearing, BeamSegment, LinearBearing, Material
 from rotorkit.errors import ArgumentTypeError, ParameterError
 
 
@@ -138,7 +138,9 @@ def test_objects_of_the_wrong_kind_are_named_errors(system, call, words):
 
 @pytest.mark.parametrize("call, words", [
     (lambda s: rk.simulate(s, (0.0, 0.01), y0=[1j, 0, 0, 0]), "y0=.* real numbers"),
-], ids=["complex y0"])
+    (lambda s: BallBearing(inner_station=1, outer_station=2, contact_stiffness=1e9, clearance=5e-6, n_balls=8,
+                           inner_race_radius=0.07, outer_race_radius=0.04), "expected R_inner <= R_outer"),
+], ids=["complex y0", "inner race > outer"])
 def test_impossible_values_are_named_errors(system, call, words):
     with pytest.raises(ParameterError, match=words):
         call(system)
