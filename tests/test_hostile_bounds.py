@@ -144,3 +144,25 @@ def test_objects_of_the_wrong_kind_are_named_errors(system, call, words):
 def test_impossible_values_are_named_errors(system, call, words):
     with pytest.raises(ParameterError, match=words):
         call(system)
+
+
+@pytest.mark.parametrize("method", ["banded", "dense"])
+def test_unbalance_response_at_an_undamped_critical_speed_names_the_speed_and_the_mode(method):
+    """An undamped Jeffcott rotor (k = 2e4 N/m, m = 2 kg: critical speed sqrt(k/m) = 100 rad/s exactly): the dynamic
+    stiffness k - m w^2 is singular at 100 rad/s. Before: numpy's LinAlgError (or inf and nan)."""
+    from rotorkit.analysis.linear_model import LinearModel
+    from rotorkit.analysis.unbalance import Unbalance, unbalance_response
+
+    def jeffcott(c):
+        return LinearModel(mass=2.0 * np.eye(2), damping=c * np.eye(2), stiffness=2e4 * np.eye(2),
+                           coordinate_names=("x1", "y1"))
+
+    with pytest.raises(ParameterError, match=r"at speed 100 rad/s \(954.93 rpm\) rotor .* excites at 100 rad/s, an "
+                                             r"undamped critical speed.*mode at 100 rad/s moving [xy]1.*add damping"):
+        unbalance_response(jeffcott(0.0), [Unbalance(station=1, magnitude=1e-4)], [50.0, 100.0, 150.0],
+                           method=method)
+    r = unbalance_response(jeffcott(0.0), [Unbalance(station=1, magnitude=1e-4)], [50.0, 150.0], method=method)
+    expected = [1e-4 * w**2 / abs(2e4 - 2.0 * w**2) for w in (50.0, 150.0)]  # closed form, undamped off resonance
+    np.testing.assert_allclose(r.amplitude("x1"), expected, rtol=1e-12)
+    damped = unbalance_response(jeffcott(4.0), [Unbalance(station=1, magnitude=1e-4)], [100.0], method=method)
+    assert damped.amplitude("x1")[0] == pytest.approx(1e-4 * 100.0**2 / (4.0 * 100.0), rel=1e-12)  # U w^2 / (c w)
