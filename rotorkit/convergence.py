@@ -18,7 +18,9 @@ point by point; above it the trajectory is not (its statistics, such as
 spectra or amplitudes, may still be: compare them the same way).
 ``simulate(..., check_convergence=True)`` runs it and stores the outcome in
 ``result.stats["convergence"]``, with a :class:`ConvergenceWarning` when the
-run is not converged. The check costs the reference run: about
+run is not converged. By default (``check_convergence="auto"``) the check
+runs on its own for stiff contact: a model whose contact stiffness (N/m: rub
+stators, intershaft rubs) is at least :data:`STIFF_CONTACT`. The check costs the reference run: about
 ``factor ** (1/8)`` (1.8 for DOP853) to ``factor ** (1/5)`` (2.5 for RK45)
 times the run itself.
 """
@@ -33,7 +35,7 @@ import numpy as np
 
 from .errors import ParameterError, SimulationError
 
-__all__ = ["Convergence", "ConvergenceWarning", "check_convergence", "TRUSTED", "FACTOR"]
+__all__ = ["Convergence", "ConvergenceWarning", "check_convergence", "TRUSTED", "FACTOR", "STIFF_CONTACT"]
 
 #: a run whose relative difference to the tighter run stays below this is trusted point by point
 TRUSTED = 1e-2
@@ -41,6 +43,28 @@ TRUSTED = 1e-2
 FACTOR = 100.0
 #: tightest relative tolerance a reference run is given (a few hundred times machine epsilon)
 TIGHTEST_RTOL = 1e-13
+#: contact stiffness (N/m) from which ``simulate(check_convergence="auto")`` checks the run
+STIFF_CONTACT = 1e10
+
+
+def stiff_contacts(system):
+    """``"name = value N/m, ..."`` of the system's contact stiffnesses (N/m) >= STIFF_CONTACT; '' if none."""
+    model = getattr(system, "model", None)
+    units = getattr(model, "parameter_units", None) or {}
+    values = getattr(system, "parameters", None) or {}
+    stiff = [(name, value) for name, value in values.items()
+             if name.endswith("contact_stiffness") and units.get(name) == "N/m" and value >= STIFF_CONTACT]
+    return ", ".join(f"{name} = {value:.3g} N/m" for name, value in sorted(stiff))
+
+
+def resolve_check(system, check):
+    """(whether to check, why: the stiff contacts or '') for ``simulate(check_convergence=check)``."""
+    if isinstance(check, str) and check == "auto":
+        why = stiff_contacts(system)
+        return bool(why), why
+    if not isinstance(check, (bool, np.bool_)):
+        raise ParameterError(f"check_convergence={check!r}: expected True, False or 'auto'")
+    return bool(check), ""
 
 
 class ConvergenceWarning(UserWarning):
@@ -118,7 +142,7 @@ def check_convergence(system, result, *, factor=FACTOR, **options):
     try:
         reference = simulate(system, (float(result.t[0]), float(result.t[-1])), method=result.stats["method"],
                              rtol=reference_rtol, atol=atol * (reference_rtol / rtol), sample_times=result.t,
-                             **options)
+                             check_convergence=False, **options)
     except SimulationError as err:
         return Convergence(rtol, reference_rtol, float("inf"), "", float("nan"), float("nan"),
                            time.perf_counter() - began,
@@ -138,8 +162,11 @@ def check_convergence(system, result, *, factor=FACTOR, **options):
                        float(amplitude[worst]), wall, message)
 
 
-def warn_if_not_converged(convergence):
-    """A :class:`ConvergenceWarning` for a run that is not trusted point by point."""
+def warn_if_not_converged(convergence, stiff_contact=""):
+    """A :class:`ConvergenceWarning` for a run that is not trusted point by point (``stiff_contact``: why the check
+    ran on its own)."""
     if not convergence.converged:
-        warnings.warn(f"{convergence.message}; tighten rtol, or trust only statistics (spectra, amplitudes) "
+        why = (f"stiff contact ({stiff_contact}): the result depends on the tolerance; "
+               if stiff_contact else "")
+        warnings.warn(f"{why}{convergence.message}; tighten rtol, or trust only statistics (spectra, amplitudes) "
                       "of this run (see docs/envelope.md)", ConvergenceWarning, stacklevel=3)

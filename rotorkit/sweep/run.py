@@ -122,7 +122,7 @@ def _warm_up(model, backend, options, reduction=None):
 
         system = reduce(system, **reduction)  # bad modes or keep fail here, before any point runs
     try:
-        simulate(system, (0.0, 1e-4), **{**options, "sample_rate": 1e5})
+        simulate(system, (0.0, 1e-4), **{**options, "sample_rate": 1e5}, check_convergence=False)
     except SimulationError:
         pass
 
