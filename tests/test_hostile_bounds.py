@@ -166,3 +166,22 @@ def test_unbalance_response_at_an_undamped_critical_speed_names_the_speed_and_th
     np.testing.assert_allclose(r.amplitude("x1"), expected, rtol=1e-12)
     damped = unbalance_response(jeffcott(4.0), [Unbalance(station=1, magnitude=1e-4)], [100.0], method=method)
     assert damped.amplitude("x1")[0] == pytest.approx(1e-4 * 100.0**2 / (4.0 * 100.0), rel=1e-12)  # U w^2 / (c w)
+
+
+@pytest.mark.parametrize("a, b", [("\ufb01", "fi"), ("\uff41", "a"), ("\u211b", "R")], ids=["fi ligature", "full-width",
+                                                                                          "script R"])
+def test_stations_that_are_the_same_identifier_after_normalisation_are_refused_at_build(a, b):
+    """'ﬁ' and 'fi' gave coordinates xﬁ and xfi: distinct strings, one Python identifier, so the energy balance
+    (whose generated function takes them as arguments) failed with 'SyntaxError: duplicate argument'."""
+    from rotorkit.errors import TopologyError
+
+    def model(second):
+        return rk.Model([rk.Rotor(name="S", stations=(a, second), speed=50.0),
+                         rk.Disk(station=a, mass=1.0, radius=0.1), rk.LumpedMass(station=second, mass=1.0),
+                         rk.ElasticSupport(station=a, stiffness=1e4),
+                         rk.ElasticSupport(station=second, stiffness=2e4, name="other")])
+
+    with pytest.raises(TopologyError, match=rf"stations {a!r} and {b!r} name the same coordinates .*the same "
+                                            rf"identifier {b!r} after Unicode normalisation"):
+        model(b)
+    assert model("other_station").coordinate_names[:2] == (f"x{a}", "xother_station")
