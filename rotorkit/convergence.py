@@ -18,13 +18,16 @@ point by point; above it the trajectory is not (its statistics, such as
 spectra or amplitudes, may still be: compare them the same way).
 ``simulate(..., check_convergence=True)`` runs it and stores the outcome in
 ``result.stats["convergence"]``, with a :class:`ConvergenceWarning` when the
-run is not converged. The check costs the reference run: about
+run is not converged. By default (``check_convergence="auto"``) the check
+runs on its own for stiff contact: a model whose contact stiffness (N/m: rub
+stators, intershaft rubs) is at least :data:`STIFF_CONTACT`. The check costs the reference run: about
 ``factor ** (1/8)`` (1.8 for DOP853) to ``factor ** (1/5)`` (2.5 for RK45)
 times the run itself.
 """
 
 from .reference_run import (
     FACTOR,
+    STIFF_CONTACT,
     TIGHTEST_RTOL,
     TRUSTED,
     Convergence,
@@ -35,7 +38,7 @@ from .reference_run import (
 from .simulate import simulate
 
 __all__ = ["Convergence", "ConvergenceWarning", "check_convergence", "warn_if_not_converged", "TRUSTED", "FACTOR",
-           "TIGHTEST_RTOL"]
+           "TIGHTEST_RTOL", "STIFF_CONTACT"]
 
 
 def check_convergence(system, result, *, factor=FACTOR, **options):

@@ -12,6 +12,7 @@ __all__ = [
     "ArgumentTypeError",
     "TopologyError",
     "SimulationError",
+    "DiskFullError",
 ]
 
 
@@ -51,3 +52,11 @@ class SimulationError(RotorkitError, RuntimeError):
         super().__init__(message)
         self.partial = partial
         self.time = time
+
+
+class DiskFullError(RotorkitError, OSError):
+    """No space left (or the quota reached) on the disk a file is written to; the message names the folder, its
+    file system and the free space, and what to do. Its ``errno`` is ``ENOSPC`` or ``EDQUOT``."""
+
+    def __str__(self):
+        return self.strerror or super().__str__()

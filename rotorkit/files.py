@@ -16,7 +16,7 @@ import tempfile
 from pathlib import Path
 
 __all__ = ["atomic_write_bytes", "atomic_write_text", "check_path", "read_data", "open_data", "check_output_file",
-           "check_output_folder", "write_folder", "LIMITS"]
+           "check_output_folder", "write_folder", "disk_full", "LIMITS"]
 
 #: largest file of each kind rotorkit reads (bytes); the bound is checked with ``stat`` before reading
 LIMITS = {
@@ -151,6 +151,48 @@ def _refuse_non_regular(path, what):
                              "rotorkit replaces only regular files: give another path")
 
 
+def _mount_point(folder):
+    """The folder where the file system holding ``folder`` (or its nearest existing parent) is mounted."""
+    path = Path(os.path.abspath(folder))
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    try:
+        dev = path.stat().st_dev
+        while path != path.parent and path.parent.stat().st_dev == dev:
+            path = path.parent
+    except OSError:
+        pass
+    return path
+
+
+def _size(n):
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n >= scale:
+            return f"{n / scale:.3g} {unit}"
+    return f"{n} bytes"
+
+
+def disk_full(exc, folder, what, advice="free space there, or write to a folder on another disk"):
+    """A :class:`~rotorkit.errors.DiskFullError` naming ``folder`` if ``exc`` is "no space left" (``ENOSPC``) or
+    "quota exceeded" (``EDQUOT``); otherwise ``exc`` itself. ``what`` says what could not be written."""
+    import errno
+    import shutil
+
+    from .errors import DiskFullError
+
+    if not isinstance(exc, OSError) or exc.errno not in (errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC)):
+        return exc
+    mount = _mount_point(folder)
+    try:
+        usage = shutil.disk_usage(mount)
+        space = f"{_size(usage.free)} free of {_size(usage.total)}"
+    except OSError:
+        space = "free space unknown"
+    reason = "the disk quota is reached" if exc.errno != errno.ENOSPC else "no space is left"
+    return DiskFullError(exc.errno, f"{what} could not be written: {reason} on the disk holding {folder} "
+                                    f"(file system mounted at {mount}, {space}); {advice}")
+
+
 def atomic_write_bytes(path, data, *, mode=None, durable=True):
     """Write ``data`` to ``path`` through a temporary file in the same folder and a rename.
 
@@ -176,9 +218,12 @@ def atomic_write_bytes(path, data, *, mode=None, durable=True):
             if durable:
                 os.fsync(fh.fileno())
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        full = disk_full(exc, path.parent, str(path))
+        if full is not exc:
+            raise full from exc
         raise
 
 
@@ -380,6 +425,11 @@ def write_folder(out, write):
             entries.append({"name": name, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()})
         atomic_write_text(staging / MANIFEST, json.dumps({"files": entries}, indent=2))
     except BaseException as exc:
+        full = disk_full(exc, out.parent, f"the outputs of {out}",
+                         f"what was written is in {staging}; free space there, or give an output folder on "
+                         "another disk")
+        if full is not exc:
+            raise full from exc
         if isinstance(exc, OSError):
             raise OSError(exc.errno, f"writing the outputs failed ({exc.strerror or exc}); what was written "
                                      f"is in {staging}") from exc

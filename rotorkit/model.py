@@ -15,6 +15,21 @@ __all__ = ["Model"]
 FORMAT_VERSION = "7"
 
 
+def _check_station_names(stations):
+    """Stations name coordinates (``x<station>``): two that are the same identifier are refused (``'ﬁ'`` and
+    ``'fi'``, full-width ``'ａ'`` and ``'a'``: Python identifiers are NFKC-normalised; ``1`` and ``'1'``)."""
+    import unicodedata
+
+    seen = {}
+    for s in stations:
+        key = unicodedata.normalize("NFKC", str(s))
+        if key in seen:
+            raise TopologyError(
+                f"Model: stations {seen[key]!r} and {s!r} name the same coordinates (x{key}, y{key}, ...: the same "
+                f"identifier {key!r} after Unicode normalisation); rename one of them")
+        seen[key] = s
+
+
 class Model:
     """A rotor system assembled from elements.
 
@@ -157,6 +172,7 @@ class Model:
                 at = order.index(added[-1] if added else host) + 1
                 order.insert(at, s)
                 added.append(s)
+        _check_station_names(order)
         return {s: mapping[s] for s in order}
 
     def _check_attachments(self):

@@ -17,7 +17,7 @@ import numpy as np
 from .errors import ParameterError, SimulationError
 
 __all__ = ["Convergence", "ConvergenceWarning", "compare_with_reference", "warn_if_not_converged", "TRUSTED",
-           "FACTOR", "TIGHTEST_RTOL"]
+           "FACTOR", "TIGHTEST_RTOL", "STIFF_CONTACT", "stiff_contacts", "resolve_check"]
 
 #: a run whose relative difference to the tighter run stays below this is trusted point by point
 TRUSTED = 1e-2
@@ -25,6 +25,28 @@ TRUSTED = 1e-2
 FACTOR = 100.0
 #: tightest relative tolerance a reference run is given (a few hundred times machine epsilon)
 TIGHTEST_RTOL = 1e-13
+#: contact stiffness (N/m) from which ``simulate(check_convergence="auto")`` checks the run
+STIFF_CONTACT = 1e10
+
+
+def stiff_contacts(system):
+    """``"name = value N/m, ..."`` of the system's contact stiffnesses (N/m) >= STIFF_CONTACT; '' if none."""
+    model = getattr(system, "model", None)
+    units = getattr(model, "parameter_units", None) or {}
+    values = getattr(system, "parameters", None) or {}
+    stiff = [(name, value) for name, value in values.items()
+             if name.endswith("contact_stiffness") and units.get(name) == "N/m" and value >= STIFF_CONTACT]
+    return ", ".join(f"{name} = {value:.3g} N/m" for name, value in sorted(stiff))
+
+
+def resolve_check(system, check):
+    """(whether to check, why: the stiff contacts or '') for ``simulate(check_convergence=check)``."""
+    if isinstance(check, str) and check == "auto":
+        why = stiff_contacts(system)
+        return bool(why), why
+    if not isinstance(check, (bool, np.bool_)):
+        raise ParameterError(f"check_convergence={check!r}: expected True, False or 'auto'")
+    return bool(check), ""
 
 
 class ConvergenceWarning(UserWarning):
@@ -102,7 +124,7 @@ def compare_with_reference(run, system, result, *, factor=FACTOR, **options):
     try:
         reference = run(system, (float(result.t[0]), float(result.t[-1])), method=result.stats["method"],
                         rtol=reference_rtol, atol=atol * (reference_rtol / rtol), sample_times=result.t,
-                        **options)
+                        check_convergence=False, **options)
     except SimulationError as err:
         return Convergence(rtol, reference_rtol, float("inf"), "", float("nan"), float("nan"),
                            time.perf_counter() - began,
@@ -122,8 +144,11 @@ def compare_with_reference(run, system, result, *, factor=FACTOR, **options):
                        float(amplitude[worst]), wall, message)
 
 
-def warn_if_not_converged(convergence):
-    """A :class:`ConvergenceWarning` for a run that is not trusted point by point."""
+def warn_if_not_converged(convergence, stiff_contact=""):
+    """A :class:`ConvergenceWarning` for a run that is not trusted point by point (``stiff_contact``: why the check
+    ran on its own)."""
     if not convergence.converged:
-        warnings.warn(f"{convergence.message}; tighten rtol, or trust only statistics (spectra, amplitudes) "
+        why = (f"stiff contact ({stiff_contact}): the result depends on the tolerance; "
+               if stiff_contact else "")
+        warnings.warn(f"{why}{convergence.message}; tighten rtol, or trust only statistics (spectra, amplitudes) "
                       "of this run (see docs/envelope.md)", ConvergenceWarning, stacklevel=3)

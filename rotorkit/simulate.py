@@ -326,7 +326,7 @@ def _choose_engine(engine, system, method):
 
 def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, sample_rate=10_000.0,
              max_step=np.inf, engine="auto", progress=None, time_limit=None, contact_events=False, bound="auto",
-             sample_times=None, check_convergence=False):
+             sample_times=None, check_convergence="auto"):
     """Integrate a compiled system over ``t_span``.
 
     Parameters
@@ -368,12 +368,16 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         dense output instead of the ``sample_rate`` grid (used by
         :func:`rotorkit.sensors.measure` to sample each sensor at its own
         instants).
-    check_convergence : bool
+    check_convergence : bool or "auto"
         Also run with both tolerances 100 times tighter and compare
         (:mod:`rotorkit.convergence`): ``result.stats["convergence"]`` holds
         the outcome, and a :class:`~rotorkit.convergence.ConvergenceWarning`
         says when the trajectory differs by more than 1 % of a coordinate's
-        amplitude. Costs the reference run (about 2x).
+        amplitude. Costs the reference run (about 2x). ``"auto"`` (default):
+        only for stiff contact, a contact stiffness of at least
+        :data:`~rotorkit.convergence.STIFF_CONTACT` (1e10 N/m), where the
+        step size collapses at every contact and the result often depends on
+        the tolerance.
     contact_events : bool
         Locate every contact onset and loss (the elements' switch functions:
         rub gap, each ball's deformation) and restart the integrator there,
@@ -391,6 +395,9 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
         failure and ``err.time`` the time reached.
     """
     _check_system(system)
+    from .reference_run import resolve_check
+
+    check_convergence, stiff_contact = resolve_check(system, check_convergence)
     if method not in SCIPY_METHODS:
         raise ParameterError(f"method={method!r} is unknown; expected one of {', '.join(SCIPY_METHODS)}")
     t0, t1, sample_rate, rtol, atol, max_step, time_limit = _check_arguments(
@@ -473,7 +480,9 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
                                          contact_events=contact_events,
                                          bound="auto" if checked_after is not None else bound)
         result.stats["convergence"] = outcome.as_dict()
-        warn_if_not_converged(outcome)
+        if stiff_contact:
+            result.stats["convergence"]["checked_because"] = stiff_contact
+        warn_if_not_converged(outcome, stiff_contact)
     return result
 
 

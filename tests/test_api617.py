@@ -15,7 +15,7 @@ from rotorkit.analysis.api617 import (
     unbalance_magnitude,
     wachel_cross_coupling,
 )
-from rotorkit.analysis.linear_model import LinearModel
+from rotorkit.linear.linear_model import LinearModel
 from rotorkit.errors import ParameterError
 
 RPM = math.pi / 30.0
@@ -180,7 +180,7 @@ def test_critical_map_of_a_shaft_without_its_bearings():
     """
     from rotorkit import BeamSegment, LinearBearing, Model, Rotor
     from rotorkit.analysis.api617 import undamped_critical_map
-    from rotorkit.analysis.linear_model import linear_model
+    from rotorkit.linear.linear_model import linear_model
 
     L, d, rho, E = 1.0, 0.04, 7800.0, 2.1e11
     beam = dict(length=L / 2, outer_diameter=d, density=rho, youngs_modulus=E, shear_modulus=8e10,

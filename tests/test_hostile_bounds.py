@@ -13,7 +13,7 @@ import pytest
 
 import rotorkit as rk
 from rotorkit.cli import main
-from rotorkit.elements import BeamSegment, LinearBearing, Material
+from rotorkit.elements import BallBearing, BeamSegment, LinearBearing, Material
 from rotorkit.errors import ArgumentTypeError, ParameterError
 
 
@@ -138,7 +138,50 @@ def test_objects_of_the_wrong_kind_are_named_errors(system, call, words):
 
 @pytest.mark.parametrize("call, words", [
     (lambda s: rk.simulate(s, (0.0, 0.01), y0=[1j, 0, 0, 0]), "y0=.* real numbers"),
-], ids=["complex y0"])
+    (lambda s: BallBearing(inner_station=1, outer_station=2, contact_stiffness=1e9, clearance=5e-6, n_balls=8,
+                           inner_race_radius=0.07, outer_race_radius=0.04), "expected R_inner <= R_outer"),
+], ids=["complex y0", "inner race > outer"])
 def test_impossible_values_are_named_errors(system, call, words):
     with pytest.raises(ParameterError, match=words):
         call(system)
+
+
+@pytest.mark.parametrize("method", ["banded", "dense"])
+def test_unbalance_response_at_an_undamped_critical_speed_names_the_speed_and_the_mode(method):
+    """An undamped Jeffcott rotor (k = 2e4 N/m, m = 2 kg: critical speed sqrt(k/m) = 100 rad/s exactly): the dynamic
+    stiffness k - m w^2 is singular at 100 rad/s. Before: numpy's LinAlgError (or inf and nan)."""
+    from rotorkit.analysis.linear_model import LinearModel
+    from rotorkit.analysis.unbalance import Unbalance, unbalance_response
+
+    def jeffcott(c):
+        return LinearModel(mass=2.0 * np.eye(2), damping=c * np.eye(2), stiffness=2e4 * np.eye(2),
+                           coordinate_names=("x1", "y1"))
+
+    with pytest.raises(ParameterError, match=r"at speed 100 rad/s \(954.93 rpm\) rotor .* excites at 100 rad/s, an "
+                                             r"undamped critical speed.*mode at 100 rad/s moving [xy]1.*add damping"):
+        unbalance_response(jeffcott(0.0), [Unbalance(station=1, magnitude=1e-4)], [50.0, 100.0, 150.0],
+                           method=method)
+    r = unbalance_response(jeffcott(0.0), [Unbalance(station=1, magnitude=1e-4)], [50.0, 150.0], method=method)
+    expected = [1e-4 * w**2 / abs(2e4 - 2.0 * w**2) for w in (50.0, 150.0)]  # closed form, undamped off resonance
+    np.testing.assert_allclose(r.amplitude("x1"), expected, rtol=1e-12)
+    damped = unbalance_response(jeffcott(4.0), [Unbalance(station=1, magnitude=1e-4)], [100.0], method=method)
+    assert damped.amplitude("x1")[0] == pytest.approx(1e-4 * 100.0**2 / (4.0 * 100.0), rel=1e-12)  # U w^2 / (c w)
+
+
+@pytest.mark.parametrize("a, b", [("\ufb01", "fi"), ("\uff41", "a"), ("\u211b", "R")], ids=["fi ligature", "full-width",
+                                                                                          "script R"])
+def test_stations_that_are_the_same_identifier_after_normalisation_are_refused_at_build(a, b):
+    """'ﬁ' and 'fi' gave coordinates xﬁ and xfi: distinct strings, one Python identifier, so the energy balance
+    (whose generated function takes them as arguments) failed with 'SyntaxError: duplicate argument'."""
+    from rotorkit.errors import TopologyError
+
+    def model(second):
+        return rk.Model([rk.Rotor(name="S", stations=(a, second), speed=50.0),
+                         rk.Disk(station=a, mass=1.0, radius=0.1), rk.LumpedMass(station=second, mass=1.0),
+                         rk.ElasticSupport(station=a, stiffness=1e4),
+                         rk.ElasticSupport(station=second, stiffness=2e4, name="other")])
+
+    with pytest.raises(TopologyError, match=rf"stations {a!r} and {b!r} name the same coordinates .*the same "
+                                            rf"identifier {b!r} after Unicode normalisation"):
+        model(b)
+    assert model("other_station").coordinate_names[:2] == (f"x{a}", "xother_station")

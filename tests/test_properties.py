@@ -255,7 +255,8 @@ def valid_scenes(draw):
                                     outer_station=draw(st.sampled_from(b_stations)),
                                     contact_stiffness=draw(HERTZ), clearance=draw(CLEARANCE),
                                     n_balls=draw(st.sampled_from([3, 8])),
-                                    inner_race_radius=draw(RACE_RADIUS), outer_race_radius=draw(RACE_RADIUS),
+                                    **dict(zip(("inner_race_radius", "outer_race_radius"),
+                                               sorted((draw(RACE_RADIUS), draw(RACE_RADIUS))))),  # inner <= outer
                                     exponent=draw(st.sampled_from([1.5, 1.5, 1.0, 10 / 9]))))
     for k, stations in enumerate(rotors):
         # a rotor held only by the bearing to a supported rotor is fine
@@ -298,6 +299,11 @@ def new_values(draw, model):
         for f in fields:
             if (kind, f) in VALID and draw(st.integers(0, 2)) == 0:
                 out[f"{e.label()}_{f}"] = draw(VALID[(kind, f)])
+        if kind == "BallBearing":  # the inner race inside the outer one: R_inner <= R_outer
+            inner, outer = (f"{e.label()}_inner_race_radius", f"{e.label()}_outer_race_radius")
+            radii = sorted((out.get(inner, e.inner_race_radius), out.get(outer, e.outer_race_radius)))
+            if inner in out or outer in out:
+                out[inner], out[outer] = radii
     return out
 
 
@@ -646,6 +652,10 @@ def test_valid_values_in_other_units_are_converted(case, data):
         si += 1e3  # stays after roll_start = 1 s
     if field == "roll_start":
         si = min(si, 1.0)
+    if field == "inner_race_radius":
+        si = min(si, BASES["BallBearing"][1]["outer_race_radius"])  # the inner race inside the outer one
+    if field == "outer_race_radius":
+        si = max(si, BASES["BallBearing"][1]["inner_race_radius"])
     value = u.Quantity(si, unit or "dimensionless").to(alias)
     stored = getattr(_construct(base, **{field: value}), field)
     assert type(stored) is float

@@ -52,7 +52,7 @@ def bearing_stiffness(model, labels, speed_parameter, speed, t=0.0):
 
 
 def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_critical=4, decades=(2, 1)):
-    """:class:`~rotorkit.analysis.critical_map.CriticalSpeedMap` of the rotor without its bearings.
+    """:class:`~rotorkit.linear.critical_map.CriticalSpeedMap` of the rotor without its bearings.
 
     Parameters
     ----------
@@ -72,8 +72,8 @@ def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_cr
         softest bearing's direct stiffness to ``decades[1]`` above the
         stiffest's.
     """
-    from ..analysis.critical_map import critical_speed_map
-    from ..analysis.linear_model import LinearModel
+    from ..linear.critical_map import critical_speed_map
+    from ..linear.linear_model import LinearModel
 
     labels = set(bearings)
     K0 = bearing_stiffness(model, labels, linear.speed_parameter, 0.0)
@@ -168,7 +168,7 @@ def placements(shape, names, stations, positions, journal_loads, bearing_positio
     ``6350 W / N`` with ``W`` the load of the nearest journal, at 0 or 180
     degrees with the sign of the lobe. ``factor`` multiplies every magnitude.
     """
-    from ..analysis.unbalance import Unbalance
+    from ..linear.unbalance import Unbalance
     from .formulas import unbalance_magnitude
 
     shape = np.asarray(shape, dtype=complex)
@@ -227,8 +227,8 @@ def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearing
     -------
     tuple of ModeCheck
     """
-    from ..analysis.campbell import campbell
-    from ..analysis.unbalance import unbalance_response
+    from ..linear.campbell import campbell
+    from ..linear.unbalance import unbalance_response
     from .formulas import amplification_factor, required_separation_margin, separation_margin
     from .stability import forward_fraction
 

@@ -203,7 +203,7 @@ def separation_margin(critical_speed, operating_range):
     from ..units import to_si
 
     nc = to_si(critical_speed, "rad/s", "critical_speed")
-    low, high = _operating(operating_range)
+    low, high = operating_bounds(operating_range)
     if nc <= low:
         return 100.0 * (low - nc) / low, False
     if nc >= high:
@@ -212,7 +212,8 @@ def separation_margin(critical_speed, operating_range):
     return (-below, False) if below <= over else (-over, True)
 
 
-def _operating(operating_range):
+def operating_bounds(operating_range):
+    """``(low, high)`` of an operating speed range (rad/s) from two speeds (floats, pint or strings)."""
     from ..units import to_si_array
 
     try:

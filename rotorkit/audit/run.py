@@ -98,7 +98,7 @@ class Api617Audit:
         self.stability.to_csv(folder / "stability.csv")
         self.shear_moment.to_csv(folder / "shear_moment.csv")
         self.critical_map.to_csv(folder / "critical_map.csv")
-        from ..analysis.tables import csv_output
+        from ..linear.tables import csv_output
 
         rows = ["mode,critical_speed_rad_s,peak_speed_rad_s,amplification_factor,half_power_low_rad_s,"
                 "half_power_high_rad_s,margin_percent,required_percent,above,passed"]
@@ -112,7 +112,7 @@ class Api617Audit:
 
 def _bearing_loads(model, static, gravity):
     """(bearing label -> station, bearing label -> journal load kg) from the static reactions."""
-    from ..analysis.whirl import station_pairs
+    from ..linear.whirl import station_pairs
 
     bearings, loads = {}, {}
     for label, forces in static.reactions.items():
@@ -168,16 +168,16 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
     """
     import rotorkit
 
-    from ..analysis.linear_model import linear_model
-    from ..analysis.static import static_deflection
+    from ..linear.linear_model import linear_model
+    from ..linear.static import static_deflection
     from ..units import to_si
     from .checks import undamped_critical_map, unbalance_checks
-    from .formulas import _operating, wachel_cross_coupling
-    from .shear_moment import _field, shear_moment
+    from .formulas import operating_bounds, wachel_cross_coupling
+    from .shear_moment import gravity_field, shear_moment
     from .stability import level1_stability
 
     model = getattr(model, "model", model)
-    low, mcs = _operating(operating_range)
+    low, mcs = operating_bounds(operating_range)
     trip = 1.05 * mcs if trip_speed is None else to_si(trip_speed, "rad/s", "trip_speed")
     if not (math.isfinite(trip) and trip >= mcs):
         raise ParameterError(f"trip_speed={trip_speed!r} is invalid: expected a speed >= the maximum continuous "
@@ -201,7 +201,7 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
         raise ParameterError(f"api617_audit: {model.name!r} is not linear (contacts, Hertzian or fluid-film "
                              "bearings solved in time): expected beams, disks and linear bearings")
     static = static_deflection(model)
-    g = math.hypot(*_field(model, 0.0)) or STANDARD_GRAVITY
+    g = math.hypot(*gravity_field(model, 0.0)) or STANDARD_GRAVITY
     bearings, loads = _bearing_loads(model, static, g)
     if journal_loads is not None:
         unknown = set(journal_loads) - set(bearings)

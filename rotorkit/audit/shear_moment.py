@@ -1,9 +1,9 @@
 """Shear force and bending moment along the shaft, from the static solution.
 
-The static deflection ``q`` (:func:`~rotorkit.analysis.static.static_deflection`,
+The static deflection ``q`` (:func:`~rotorkit.linear.static.static_deflection`,
 ``K q = F``) gives the force every element that is not a beam exerts on
 the shaft's stations at rest, ``F_e = F_e(0) - K_e q``
-(:func:`~rotorkit.analysis.linear_matrices.element_forces`: a bearing's
+(:func:`~rotorkit.linear.linear_matrices.element_forces`: a bearing's
 reaction, a disk's weight), and each beam segment's own weight, a uniform
 load ``q_w`` per unit length (its consistent loads summed over its length).
 Walking the shaft from its free left end, per bending plane ``(w, beta)``
@@ -87,7 +87,7 @@ class ShearMoment:
 
     def to_csv(self, path=None):
         """One row per point: position (m), Vx, Vy (N), Mx, My (N m); text, or written to ``path``."""
-        from ..analysis.tables import csv_output
+        from ..linear.tables import csv_output
 
         rows = ["element,position_m,shear_x_N,shear_y_N,moment_x_N_m,moment_y_N_m"]
         for i, z in enumerate(self.positions):
@@ -113,7 +113,7 @@ class ShearMoment:
         return axes
 
 
-def _field(model, t):
+def gravity_field(model, t):
     """The uniform load field ``(a_x, a_y)`` (m/s^2) of the model's Maneuver at ``t`` (zero without one)."""
     import sympy as sp
 
@@ -137,7 +137,7 @@ def shear_moment(model, t=0.0, deflection=None):
         manoeuvre).
     t : float, str or pint.Quantity
         Time (s) of the loads.
-    deflection : rotorkit.analysis.static.StaticDeflection, optional
+    deflection : rotorkit.linear.static.StaticDeflection, optional
         The static solution, if computed already (default: solved here).
 
     Returns
@@ -150,8 +150,8 @@ def shear_moment(model, t=0.0, deflection=None):
         If the model is not linear, has no beam segment, or its beams are
         on more than one rotor.
     """
-    from ..analysis.linear_matrices import element_forces, station_positions
-    from ..analysis.static import static_deflection
+    from ..linear.linear_matrices import element_forces, station_positions
+    from ..linear.static import static_deflection
     from ..codegen.linear_cache import linear_module, template_function
     from ..units import to_si
 
@@ -178,7 +178,7 @@ def shear_moment(model, t=0.0, deflection=None):
     # (its mass matrix times the rigid-body field, as the Maneuver loads it) is replaced by a uniform load
     values = model.parameters
     p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in module.PARAMETERS]
-    field = _field(model, t)
+    field = gravity_field(model, t)
     a_vec = np.array([field[0] if _split(n)[0] == "x" else field[1] if _split(n)[0] == "y" else 0.0 for n in names])
     beam_share = {}
     spans = []

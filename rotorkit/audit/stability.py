@@ -36,7 +36,7 @@ def forward_fraction(shapes, names):
     backward circular components of each station's orbit; above 0.5 the
     mode whirls mostly forward.
     """
-    from ..analysis.whirl import station_pairs
+    from ..linear.whirl import station_pairs
 
     shapes = np.asarray(shapes, dtype=complex)
     fwd = np.zeros(shapes.shape[1])
@@ -96,7 +96,7 @@ class Level1Stability:
 
     def to_csv(self, path=None):
         """``Q`` (N/m), log decrement and frequency (rad/s) per row; text, or written to ``path``."""
-        from ..analysis.tables import csv_output
+        from ..linear.tables import csv_output
 
         rows = ["cross_coupling_N_m,log_decrement,frequency_rad_s"]
         rows += [f"{q:.10g},{d:.10g},{f:.10g}" for q, d, f in
@@ -135,7 +135,7 @@ def level1_stability(linear, speed, q_a, stations, *, points=11, n_modes=8, rtol
 
     Parameters
     ----------
-    linear : rotorkit.analysis.linear_model.LinearModel
+    linear : rotorkit.linear.linear_model.LinearModel
         The rotor on its bearings (seals and aerodynamic terms left out, as
         Level I asks).
     speed : float, str or pint.Quantity
@@ -165,13 +165,13 @@ def level1_stability(linear, speed, q_a, stations, *, points=11, n_modes=8, rtol
     """
     from scipy.optimize import brentq
 
-    from ..analysis.campbell import mac
-    from ..analysis.linear_model import LinearModel, _speed
+    from ..linear.campbell import mac
+    from ..linear.linear_model import LinearModel
     from ..units import to_si
 
     if not isinstance(linear, LinearModel):
         raise TypeError(f"level1_stability: expected a LinearModel, got {type(linear).__name__}")
-    w = _speed(speed)
+    w = to_si(speed, "rad/s", "speed")
     qa = to_si(q_a, "N/m", "q_a")
     if not (math.isfinite(qa) and qa >= 0):
         raise ParameterError(f"q_a={q_a!r} is invalid: expected a cross-coupling >= 0 (N/m)")

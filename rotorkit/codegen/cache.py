@@ -250,6 +250,12 @@ def store(key, source):
         meta = {"format": FORMAT, "key": key, "hmac": _digest(source, secret)}
         atomic_write_text(entry / "meta.json", json.dumps(meta), mode=0o600)
     except OSError as exc:
+        from ..errors import DiskFullError
+
+        if isinstance(exc, DiskFullError):  # names the folder that is full
+            _warn_once(f"rotorkit cache cannot store model {key}: {exc}, or set ROTORKIT_CACHE_DIR to a folder on "
+                       "a disk with space; the model is built in memory meanwhile", topic=("store", "disk full"))
+            return _execute(key, source)
         _warn_once(f"rotorkit cache cannot store model {key} ({exc}); it is built in memory "
                    "and compiled again in every process until the cache folder is usable "
                    "(see 'rotorkit cache info')", topic=("store", type(exc).__name__))

@@ -110,6 +110,9 @@ class BallBearing(Element):
                 or not math.isfinite(self.exponent) or not self.exponent >= 1:
             raise ParameterError(f"{who}: exponent={self.exponent!r} must be a finite number >= 1 (1.5 for balls)")
         object.__setattr__(self, "exponent", float(self.exponent))
+        if self.inner_race_radius > self.outer_race_radius:  # the inner race lies inside the outer one
+            raise ParameterError(f"{who}: inner_race_radius = {self.inner_race_radius:g} m is larger than "
+                                 f"outer_race_radius = {self.outer_race_radius:g} m; expected R_inner <= R_outer")
 
     def attached_stations(self):
         return (self.inner_station, self.outer_station)

@@ -230,6 +230,30 @@ def _unbalances(items):
     return tuple(out)
 
 
+def _singular(model, W, w, rotor, method):
+    """The ParameterError for a dynamic stiffness that is singular (an undamped critical speed): names the speed
+    (the first singular one) and the mode (its frequency and largest coordinates)."""
+    from .harmonic import solve_harmonic
+
+    n = model.n
+    for k in range(W.size):  # the first speed whose solve fails: at most one more solve per speed
+        try:
+            ok = np.all(np.isfinite(solve_harmonic(model, W[k:k + 1], w[k:k + 1], np.ones((n, 1)), method=method)))
+        except np.linalg.LinAlgError:
+            ok = False
+        if not ok:
+            break
+    D = (model.stiffness + W[k] * model.circulatory - w[k] ** 2 * model.mass
+         + 1j * w[k] * (model.damping + W[k] * model.gyroscopic))
+    shape = np.abs(np.linalg.svd(D)[2][-1].conj())  # the null vector: the mode at this frequency
+    largest = [model.coordinate_names[i] for i in np.argsort(-shape)[:2] if shape[i] > 1e-3 * shape.max()]
+    return ParameterError(
+        f"unbalance_response: at speed {W[k]:.6g} rad/s ({W[k] * 30 / np.pi:.6g} rpm) rotor {rotor!r} excites at "
+        f"{w[k]:.6g} rad/s, an undamped critical speed: the dynamic stiffness is singular there (the mode at "
+        f"{w[k]:.6g} rad/s moving {', '.join(largest)} has no damping), so the response is infinite; "
+        "add damping to the model or leave this speed out of speeds")
+
+
 def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisation):
     """Steady response to a set of unbalances over a range of the swept speed.
 
@@ -301,7 +325,12 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
         forces = (w * w)[:, None, None] * F[None, :, None]
         if np.any(spins[rotor] < 0):
             raise ParameterError(f"rotor {rotor!r} spins backwards at some speeds: expected non-negative spin")
-        Q = solve_harmonic(model, W, w, forces, method=used)[:, :, 0]
+        try:
+            Q = solve_harmonic(model, W, w, forces, method=used)[:, :, 0]
+        except np.linalg.LinAlgError:
+            Q = None
+        if Q is None or not np.all(np.isfinite(Q)):
+            raise _singular(model, W, w, rotor, used)
         Q.setflags(write=False)
         components[rotor] = Q
         frequencies[rotor] = w

@@ -23,7 +23,7 @@ import time as _time
 from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from dataclasses import dataclass
 
-from ..errors import ParameterError, RotorkitError
+from ..errors import ArgumentTypeError, ParameterError, RotorkitError
 
 __all__ = ["ProgressEvent", "LocalPool", "connect", "check_worker_versions", "worker_versions"]
 
@@ -153,7 +153,7 @@ def check_start_method(start_method, workers=2):
 
 def check_executor(executor):
     if not (isinstance(executor, Executor) or (hasattr(executor, "get_executor") and hasattr(executor, "scheduler_info"))):
-        raise TypeError(f"executor={executor!r}: expected a concurrent.futures.Executor or a dask.distributed.Client")
+        raise ArgumentTypeError(f"executor={executor!r}: expected a concurrent.futures.Executor or a dask.distributed.Client")
 
 
 class LocalPool(Executor):
@@ -274,7 +274,7 @@ def as_executor(executor):
         return executor.get_executor(pure=False), n
     if isinstance(executor, Executor):
         return executor, max(1, int(getattr(executor, "_max_workers", 0) or os.cpu_count() or 1))
-    raise TypeError(f"executor={executor!r}: expected a concurrent.futures.Executor or a dask.distributed.Client")
+    raise ArgumentTypeError(f"executor={executor!r}: expected a concurrent.futures.Executor or a dask.distributed.Client")
 
 
 def _worker_died(exc):

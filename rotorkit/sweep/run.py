@@ -8,7 +8,7 @@ import numbers
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..errors import ParameterError, RotorkitError, SimulationError
+from ..errors import ArgumentTypeError, ParameterError, RotorkitError, SimulationError
 from . import storage
 from .executors import LocalPool, Progress, as_executor, check_executor, check_start_method, connect, run_tasks
 from .point import parse_order, rotor_speeds, run_point
@@ -42,10 +42,10 @@ def _check_simulate_options(options, window):
     if options is None:
         options = {}
     if not isinstance(options, Mapping):
-        raise TypeError(f"simulate_options={options!r}: expected a dict of rotorkit.simulate keyword arguments")
+        raise ArgumentTypeError(f"simulate_options={options!r}: expected a dict of rotorkit.simulate keyword arguments")
     unknown = sorted(set(options) - set(_SIMULATE_KEYS) - {"backend", "reduce"})
     if unknown:
-        raise TypeError(f"simulate_options has unknown keys {unknown}; allowed: {', '.join(_SIMULATE_KEYS)}, backend "
+        raise ArgumentTypeError(f"simulate_options has unknown keys {unknown}; allowed: {', '.join(_SIMULATE_KEYS)}, backend "
                         "and reduce")
     sample_rate = options.get("sample_rate", 10_000.0)
     if isinstance(sample_rate, numbers.Real) and (window[1] - window[0]) * sample_rate < 16:
@@ -122,7 +122,7 @@ def _warm_up(model, backend, options, reduction=None):
 
         system = reduce(system, **reduction)  # bad modes or keep fail here, before any point runs
     try:
-        simulate(system, (0.0, 1e-4), **{**options, "sample_rate": 1e5})
+        simulate(system, (0.0, 1e-4), **{**options, "sample_rate": 1e5}, check_convergence=False)
     except SimulationError:
         pass
 
@@ -241,7 +241,7 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
     if isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1:
         raise ParameterError(f"workers={workers!r}: expected an integer >= 1")
     if progress is not None and not callable(progress):
-        raise TypeError(f"progress={progress!r}: expected a callable progress(event)")
+        raise ArgumentTypeError(f"progress={progress!r}: expected a callable progress(event)")
     if isinstance(poincare_revolutions, bool) or not isinstance(poincare_revolutions, numbers.Integral) \
             or not 1 <= poincare_revolutions <= 100_000:
         raise ParameterError(f"poincare_revolutions={poincare_revolutions!r}: expected an integer in 1..100000")
@@ -256,7 +256,7 @@ def run_sweep(scene, space, values=None, *, out_dir, overrides=None, t_end=None,
     elif scheduler is None:
         check_start_method(start_method, workers if space.size > 1 else 1)
     if (remote or workers > 1) and scene.kind == "function" and not scene.target["importable"]:
-        raise TypeError(f"scene={scene.display}: worker processes cannot import a lambda or a nested function; "
+        raise ArgumentTypeError(f"scene={scene.display}: worker processes cannot import a lambda or a nested function; "
                         "define the build function at module level, or use workers=1")
 
     first = space.point(0)

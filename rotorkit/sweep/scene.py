@@ -25,7 +25,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import ParameterError
+from ..errors import ArgumentTypeError, ParameterError
 
 __all__ = ["Scene", "as_scene"]
 
@@ -48,7 +48,7 @@ def plain_override(name, value):
         if not isinstance(magnitude, numbers.Real):
             raise ParameterError(f"overrides[{name!r}] = {value!r}: expected a scalar quantity")
         return {"quantity": float(magnitude), "unit": str(value.units)}
-    raise TypeError(
+    raise ArgumentTypeError(
         f"overrides[{name!r}] = {value!r} ({type(value).__name__}): expected a number, bool, string or pint "
         "quantity (overrides are sent to worker processes and saved in sweep.json)"
     )
@@ -124,14 +124,14 @@ class Scene:
         from ..presets import preset_module
 
         if not isinstance(name, str):
-            raise TypeError(f"preset={name!r}: expected a preset name")
+            raise ArgumentTypeError(f"preset={name!r}: expected a preset name")
         preset_module(name)  # unknown names fail here, with suggestions
         return cls({"preset": name}, _plain(overrides))
 
     @classmethod
     def function(cls, build, **overrides):
         if not callable(build):
-            raise TypeError(f"preset={build!r}: expected a preset name (str), a build(**parameters) -> Model "
+            raise ArgumentTypeError(f"preset={build!r}: expected a preset name (str), a build(**parameters) -> Model "
                             "callable or a rotorkit.Model")
         module = getattr(build, "__module__", None)
         qualname = getattr(build, "__qualname__", None)
@@ -146,7 +146,7 @@ class Scene:
         from ..model import Model
 
         if not isinstance(model, Model):
-            raise TypeError(f"model={model!r}: expected a rotorkit.Model")
+            raise ArgumentTypeError(f"model={model!r}: expected a rotorkit.Model")
         run = {k: v for k, v in dict(outputs or {}).items() if k in ("t_end", "bending", "torsion")}
         return cls({"model": model.name, "structure": model.structure_key}, _plain(overrides), model=model, run=run)
 
@@ -246,7 +246,7 @@ def as_scene(scene, overrides=None):
     from ..model import Model
 
     if overrides is not None and not isinstance(overrides, Mapping):
-        raise TypeError(f"overrides={overrides!r}: expected a dict of build parameters")
+        raise ArgumentTypeError(f"overrides={overrides!r}: expected a dict of build parameters")
     overrides = dict(overrides or {})
     if isinstance(scene, Scene):
         if overrides:

@@ -147,6 +147,9 @@ def check_manifest(out_dir, manifest):
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{path} is unreadable ({exc}); delete it (or the folder) to start the sweep over") \
             from None
+    if not isinstance(old, dict) or not {"format", "scene", "space", "settings"} <= set(old):
+        raise ParameterError(f"{path} is damaged: not a rotorkit sweep manifest (expected a JSON object with format, "
+                             "scene, space and settings); delete it (or the folder) to start the sweep over")
     if old != manifest:
         diffs = "; ".join(_differences(old if isinstance(old, dict) else {}, manifest))
         raise ParameterError(
