@@ -37,6 +37,8 @@ _LAZY = {
     "available_backends": "system",
     "reduce": "reduction",
     "ReducedSystem": "reduction",
+    "Seal": "elements",
+    "matched_whirl_modes": "analysis.matched_whirl",
 }
 
 
@@ -98,6 +100,8 @@ __all__ = [
     "critical_speed_map",
     "linear_model",
     "LinearModel",
+    "Seal",
+    "matched_whirl_modes",
     "RotorkitError",
     "ParameterError",
     "UnitError",
