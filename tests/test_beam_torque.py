@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from rotorkit import BeamSegment, LinearBearing, Material, Model, Rotor, TopologyError
+from rotorkit import BeamSegment, LinearBearing, Material, Model, Rotor
 from rotorkit.analysis.linear_matrices import linear_evaluator
 from rotorkit.elements import TaperedBeamSegment
 from rotorkit.errors import ParameterError, UnitError

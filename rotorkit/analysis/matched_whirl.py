@@ -121,8 +121,9 @@ class MatchedWhirl:
         lines = [f"{'mode':>4} {'frequency [' + units + ']':>20} {'damping ratio':>14} {'log dec':>10} "
                  f"{'iterations':>10} {'converged':>9}"]
         for i in range(len(self)):
-            lines.append(f"{i + 1:>4} {self.damped_frequencies[i] * factor:>20.6g} {self.damping_ratios[i]:>14.5g} "
-                         f"{self.log_decrements[i]:>10.5g} {int(self.iterations[i]):>10} "
+            zeta, delta = self.damping_ratios[i] + 0.0, self.log_decrements[i] + 0.0  # no "-0"
+            lines.append(f"{i + 1:>4} {self.damped_frequencies[i] * factor:>20.6g} {zeta:>14.5g} "
+                         f"{delta:>10.5g} {int(self.iterations[i]):>10} "
                          f"{'yes' if self.converged[i] else 'NO':>9}")
         return "\n".join(lines)
 

@@ -259,7 +259,8 @@ class LinearBearing(Element):
                 key = key.rstrip("s").replace("frequencie", "frequency")
             if not match or (key not in ("speed", "frequency") and key not in _COEFFS):
                 raise ParameterError(f"{who}: column {text.strip()!r}: expected 'speed' or a coefficient "
-                                     f"({', '.join(_COEFFS)}) or 'frequency', optionally with a unit in brackets, e.g. 'kxx [N/m]'")
+                                     f"({', '.join(_COEFFS)}) or 'frequency', optionally with a unit in brackets, "
+                                     "e.g. 'kxx [N/m]'")
             columns.append((key, match.group(2)))
         keys = [k for k, _ in columns]
         if "speed" not in keys and "frequency" not in keys:
@@ -603,8 +604,8 @@ class LinearBearing(Element):
         speed = ctx.speed(self.station)
         if self.frequencies is None:
             n = len(self.speeds)
-            return interpolate_table(speed, [ctx.p[f"speed{i}"] for i in range(n)], [ctx.p[f"{f}{i}"] for i in range(n)],
-                                     *how)
+            return interpolate_table(speed, [ctx.p[f"speed{i}"] for i in range(n)],
+                                     [ctx.p[f"{f}{i}"] for i in range(n)], *how)
         nu = ctx.p["whirl_ratio"] * speed + ctx.p["whirl_frequency"]
         freqs = [ctx.p[f"frequency{j}"] for j in range(len(self.frequencies))]
         if self.speeds is None:
