@@ -83,12 +83,10 @@ class Seal(LinearBearing):
         negative = [e for e in model.elements if isinstance(e, Seal) and e._negative()]
         if not negative or negative[-1] is not self:  # once per model, by the last such seal
             return
-        from ..errors import RotorkitError
-
-        try:
-            margin = static_stiffness_margin(model)
-        except RotorkitError:  # a model the later checks reject: they say why
-            return
+        # the model's remaining checks first (they raise what they would raise anyway), then the matrices
+        model._check_stiffness_paths()
+        model._check_symbol_names()
+        margin = static_stiffness_margin(model)
         if margin is not None and margin < 0:
             labels = ", ".join(repr(e.label()) for e in negative)
             warnings.warn(f"Model {model.name!r}: the static stiffness matrix is not positive definite (lowest "
