@@ -164,3 +164,14 @@ def test_model_without_frequency_tables_gives_its_modes():
         result = matched_whirl_modes(model, n_modes=2)
     np.testing.assert_allclose(result.frequencies, math.sqrt(k / m), rtol=1e-12)
     assert (result.iterations == 0).all()
+
+
+def test_compiled_rhs_reads_the_table_at_the_whirl_frequency():
+    m = 2.0
+    model = Model([Rotor(name="R", stations=(1,), speed=200.0), LumpedMass(station=1, mass=m), linear_in_frequency()])
+    system = model.compile(backend="python")
+    for given, nu in [({}, 200.0), ({"b_whirl_ratio": 0.0, "b_whirl_frequency": 640.0}, 640.0)]:
+        sys_nu = system.with_parameters(**given)
+        y = sys_nu.initial_state(x1=1e-3)
+        ax = sys_nu.rhs(0.0, y)[sys_nu.state_index("x1_dot")]
+        assert ax == pytest.approx(-(K0 + A * nu) * 1e-3 / m, rel=1e-12)
