@@ -30,7 +30,7 @@ from scipy.optimize import brentq
 
 from rotorkit import BeamSegment, LinearBearing, LumpedMass, Material, Model, Rotor, ShaftSegment
 from rotorkit.analysis.linear_matrices import linear_evaluator, linear_matrices
-from rotorkit.analysis.matched_whirl import MatchedWhirlWarning, matched_whirl_modes
+from rotorkit.analysis.matched_whirl import MatchedWhirlWarning, matched_whirl_campbell, matched_whirl_modes
 from rotorkit.analysis.modal import modes_from_matrices
 from rotorkit.errors import ParameterError, SimulationError
 
@@ -175,3 +175,19 @@ def test_compiled_rhs_reads_the_table_at_the_whirl_frequency():
         y = sys_nu.initial_state(x1=1e-3)
         ax = sys_nu.rhs(0.0, y)[sys_nu.state_index("x1_dot")]
         assert ax == pytest.approx(-(K0 + A * nu) * 1e-3 / m, rel=1e-12)
+
+
+def test_campbell_with_speed_and_frequency_grid_closed_form():
+    """k(W, nu) = K0 + A nu + B W (exact on a 2 x 2 bilinear grid continued linearly): m w^2 = k(W, w)."""
+    m, b = 2.0, 800.0
+    grid = [[K0 + b * W + A * nu for nu in (0.0, 1000.0)] for W in (0.0, 500.0)]
+    bearing = LinearBearing.frequency_table(station=1, speeds=[0.0, 500.0], frequencies=[0.0, 1000.0], kxx=grid,
+                                            kyy=grid, extrapolation="linear")
+    model = Model([Rotor(name="R", stations=(1,), speed=0.0), LumpedMass(station=1, mass=m), bearing])
+    speeds = [0.0, 250.0, 700.0]
+    diagram = matched_whirl_campbell(model, speeds, n_modes=2)
+    expected = [(A + math.sqrt(A * A + 4 * m * (K0 + b * W))) / (2 * m) for W in speeds]
+    assert diagram.converged.all()
+    np.testing.assert_allclose(diagram.frequencies, np.column_stack([expected, expected]), rtol=1e-9)
+    lines = diagram.plot()
+    assert len(lines) == 2

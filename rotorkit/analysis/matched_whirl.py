@@ -48,7 +48,8 @@ import numpy as np
 
 from ..errors import ParameterError, SimulationError
 
-__all__ = ["MatchedWhirl", "MatchedWhirlWarning", "matched_whirl_modes", "frequency_tables"]
+__all__ = ["MatchedWhirl", "MatchedWhirlCampbell", "MatchedWhirlWarning", "matched_whirl_modes",
+           "matched_whirl_campbell", "frequency_tables"]
 
 #: default relative tolerance on |Im lambda(nu)| - nu
 DEFAULT_RTOL = 1e-10
@@ -255,6 +256,72 @@ def matched_whirl_modes(model, speed=None, *, n_modes=6, speed_parameter=None, t
             raise SimulationError(message)
         warnings.warn(message, MatchedWhirlWarning, stacklevel=2)
     return result
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class MatchedWhirlCampbell:
+    """Matched-whirl modes over a range of speeds (a Campbell diagram with each mode at its own frequency).
+
+    Attributes
+    ----------
+    speeds : numpy.ndarray, shape (m,)
+        Rotor speeds (rad/s).
+    eigenvalues : numpy.ndarray of complex, shape (m, k)
+        ``lambda`` of mode ``j + 1`` at speed ``i`` (nan where the mode does not exist).
+    converged : numpy.ndarray of bool, shape (m, k)
+    """
+
+    speeds: np.ndarray
+    eigenvalues: np.ndarray
+    converged: np.ndarray
+
+    @property
+    def frequencies(self):
+        """Damped (whirl) frequencies ``Im lambda`` (rad/s), shape (m, k)."""
+        return self.eigenvalues.imag
+
+    @property
+    def damping_ratios(self):
+        """``-Re lambda / |lambda|``, shape (m, k)."""
+        return -self.eigenvalues.real / np.abs(self.eigenvalues)
+
+    def plot(self, ax=None, units="rad/s", **kwargs):
+        """Frequencies against speed, one line per mode rank, both in ``units``; the Line2D objects."""
+        import matplotlib.pyplot as plt
+
+        from .modal import frequency_factor
+
+        ax = plt.gca() if ax is None else ax
+        factor = frequency_factor(units)
+        lines = [ax.plot(self.speeds * factor, self.frequencies[:, j] * factor, label=f"mode {j + 1}", **kwargs)[0]
+                 for j in range(self.frequencies.shape[1])]
+        ax.plot(self.speeds * factor, self.speeds * factor, "k--", linewidth=0.8, label="1x")
+        ax.set_xlabel(f"speed [{units}]")
+        ax.set_ylabel(f"whirl frequency (matched) [{units}]")
+        ax.legend()
+        return lines
+
+
+def matched_whirl_campbell(model, speeds, *, n_modes=6, speed_parameter=None, **options):
+    """:func:`matched_whirl_modes` at each of ``speeds`` (rad/s, or quantities): a :class:`MatchedWhirlCampbell`.
+
+    ``options`` go to :func:`matched_whirl_modes` (``rtol``, ``atol``,
+    ``max_iterations``, ``strict``, ``t``); a mode that does not converge
+    at a speed is flagged there and warned about.
+    """
+    from .linear_model import _speed
+
+    if isinstance(speeds, (str, bytes)) or not hasattr(speeds, "__len__") or len(speeds) == 0:
+        raise ParameterError(f"speeds={speeds!r} is invalid: expected a non-empty sequence of speeds (rad/s)")
+    values = np.array([_speed(w, "speeds") for w in speeds])
+    eigenvalues = np.full((values.size, n_modes), complex(math.nan, math.nan))
+    converged = np.zeros((values.size, n_modes), dtype=bool)
+    for i, w in enumerate(values):
+        result = matched_whirl_modes(model, w, n_modes=n_modes, speed_parameter=speed_parameter, **options)
+        eigenvalues[i, :len(result)] = result.eigenvalues
+        converged[i, :len(result)] = result.converged
+    return MatchedWhirlCampbell(speeds=_readonly(values), eigenvalues=_readonly(eigenvalues),
+                                converged=_readonly(converged))
 
 
 def _readonly(array):
