@@ -255,8 +255,7 @@ class LinearBearing(Element):
         for text in rows[0]:
             match = re.fullmatch(r"\s*([A-Za-z_]\w*)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", text)
             key = match.group(1).lower() if match else text.strip()
-            if key in ("speed", "speeds", "frequency", "frequencies"):
-                key = key.rstrip("s").replace("frequencie", "frequency")
+            key = {"speeds": "speed", "frequencies": "frequency"}.get(key, key)
             if not match or (key not in ("speed", "frequency") and key not in _COEFFS):
                 raise ParameterError(f"{who}: column {text.strip()!r}: expected 'speed' or a coefficient "
                                      f"({', '.join(_COEFFS)}) or 'frequency', optionally with a unit in brackets, "
