@@ -38,6 +38,8 @@ _LAZY = {
     "reduce": "reduction",
     "ReducedSystem": "reduction",
     "PlainJournalBearing": "fluidfilm.plain_journal",
+    "Seal": "elements",
+    "matched_whirl_modes": "linear.matched_whirl",
 }
 
 
@@ -100,6 +102,8 @@ __all__ = [
     "critical_speed_map",
     "linear_model",
     "LinearModel",
+    "Seal",
+    "matched_whirl_modes",
     "RotorkitError",
     "ParameterError",
     "UnitError",

@@ -50,6 +50,8 @@ def sink_model():
                                             kxy=[0.0, 1e5], cxx=[10.0, 20.0],
                                             pedestal=rk.elements.Pedestal(mass=20.0, kxx=5e6, kyy=3e6, cyy=50.0)),
         rk.elements.LinearBearing(station=4, kxx=1e5, kyy=1e5, ktxx=2e3, ktyy=3e3, ktxy=100.0, ctyy=0.5),
+        rk.elements.Seal.frequency_table(station=4, frequencies=[0.0, 500.0], kxx=[1e4, 2e4], kyy=[1e4, 2e4],
+                                         cxy=[1.0, 2.0], whirl=100.0, interpolation="pchip"),
         rk.elements.LinearBearing(station=3, other_station="h", kxx=1e5, kyy=1e5, cxy=3.0, cyx=-3.0),
         rk.elements.BaseRotation(rate_y=0.5, center_x=-800.0, axial_positions={1: 0.1, 2: 0.4}),
         rk.SqueezeFilmDamper(station=4, radius=0.05, length=0.015, clearance=2e-4, viscosity=0.01,

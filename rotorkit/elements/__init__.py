@@ -20,6 +20,7 @@ from .speed import SpeedProfile
 from .squeeze_film import SqueezeFilmDamper
 from .support import ElasticSupport
 from .tapered import TaperedBeamSegment
+from .seal import Seal
 
 __all__ = [
     "Element",
@@ -45,4 +46,5 @@ __all__ = [
     "JournalBearing",
     "IntershaftRub",
     "Drive",
+    "Seal",
 ]

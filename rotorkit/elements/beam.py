@@ -77,7 +77,9 @@ def plane_template():
         ``"stiffness"`` (times EI), ``"translational_mass"`` (times rho A),
         ``"rotary_mass"`` (times rho I; also ``int N_beta^T N_beta dz``, the
         gyroscopic integral per ``rho I_p``); ``"geometric"``, the geometric
-        stiffness per unit axial force ``int N_w'^T N_w' dz``; and
+        stiffness per unit axial force ``int N_w'^T N_w' dz``;
+        ``"torque"``, ``int N_w'^T N_w'' dz`` (the torque's geometric
+        stiffness per unit torque couples the planes through it); and
         ``"rotary_vector"``, 4x1, ``int N_beta^T dz``. Entries are rational in
         l and phi.
     """
@@ -100,6 +102,7 @@ def plane_template():
         "rotary_mass": integral(Nb.T * Nb),
         "rotary_vector": integral(Nb.T),
         "geometric": integral(sp.diff(Nw, z).T * sp.diff(Nw, z)),
+        "torque": integral(sp.diff(Nw, z).T * sp.diff(Nw, z, 2)),
     }
 
 
@@ -170,6 +173,15 @@ class BeamSegment(Element):
         negative: the geometric stiffness ``P int w'^2 dz / 2`` per bending
         plane (a compressive load softens the shaft and buckles it at
         ``P = -pi^2 E I / L^2`` pinned-pinned). None (default) adds no term.
+    torque : float or pint.Quantity, optional
+        Constant axial torque T in the segment (N m; its sign gives the
+        handedness of the buckled helix only): the geometric stiffness of
+        Greenhill's axial torque, which couples the two bending planes and
+        buckles a pinned-pinned shaft at ``|T| = 2 pi E I / L``. The
+        coupling is not symmetric (an axial torque is not conservative): its
+        symmetric part enters the stiffness matrix, its skew part acts as a
+        circulatory load. See ``docs/elements.md``. None (default) adds no
+        term.
 
     Examples
     --------
@@ -184,6 +196,7 @@ class BeamSegment(Element):
     outer_diameter: float = None
     inner_diameter: float = 0.0
     axial_force: float | None = None
+    torque: float | None = None
     density: float | None = None
     youngs_modulus: float | None = None
     shear_modulus: float | None = None
@@ -204,9 +217,11 @@ class BeamSegment(Element):
         "shear_modulus": ("Pa", "positive"),
         "shear_coefficient": ("", "positive"),
         "axial_force": ("N", None),
+        "torque": ("N*m", None),
     }
     _latex_names = {"length": "L", "outer_diameter": "d_o", "inner_diameter": "d_i", "density": r"\rho",
-                    "youngs_modulus": "E", "shear_modulus": "G", "shear_coefficient": r"\kappa", "axial_force": "P"}
+                    "youngs_modulus": "E", "shear_modulus": "G", "shear_coefficient": r"\kappa", "axial_force": "P",
+                    "torque": "T"}
 
     def __post_init__(self):
         if self.material is not None:
@@ -259,8 +274,9 @@ class BeamSegment(Element):
 
     def structure(self):
         base = Element.structure(self)
-        # an absent axial force leaves the structure (and the cache keys) of a plain beam unchanged
-        return base[:2] + (tuple(v for v in base[2] if v[0] != "material" and v != ("axial_force", True)),)
+        # an absent axial force or torque leaves the structure (and the cache keys) of a plain beam unchanged
+        return base[:2] + (tuple(v for v in base[2] if v[0] != "material" and v not in (
+            ("axial_force", True), ("torque", True))),)
 
     # -- topology -------------------------------------------------------------
     def _default_label(self):
@@ -373,11 +389,11 @@ class BeamSegment(Element):
         import sympy as sp
 
         key = (self.theory, self.rotary_inertia, self.gyroscopic, self.inner_diameter == 0,
-               self.shear_coefficient is None, self.elements, self.axial_force is not None)
+               self.shear_coefficient is None, self.elements, self.axial_force is not None, self.torque is not None)
         cached = _FORMS.get(key)
         if cached is None:
             names = ("outer_diameter", "inner_diameter", "density", "youngs_modulus", "shear_modulus",
-                     "shear_coefficient", "length", "axial_force")
+                     "shear_coefficient", "length", "axial_force", "torque")
             p = {n: sp.Symbol(f"_beam_{n}", real=True) for n in names}
             spin = sp.Symbol("_beam_spin", real=True)
             K, M, Mr = self.element_matrices(p)
@@ -387,6 +403,21 @@ class BeamSegment(Element):
             Z = sp.zeros(4, 4)
             mass = sp.ImmutableMatrix(sp.BlockMatrix([[M, Z], [Z, My]]))
             stiffness = sp.ImmutableMatrix(sp.BlockMatrix([[K, Z], [Z, Ky]]))
+            circulatory = None
+            if self.torque is not None:
+                # Greenhill's axial torque: virtual work int (EI w'' - i T w') dw''* over w = u + i v, i.e.
+                # rows of u against v: T int N''^T N' = T A^T, rows of v against u: -T A^T (A = int N_w'^T N_w'');
+                # v = N_w (sign q_y). Symmetric part -> stiffness, skew part -> circulatory load.
+                l_sym, phi_sym = plane_template()["symbols"]
+                rhoA, rhoI, EI, kGA, _, l = self._section(p)
+                phi = 12 * EI / (kGA * l**2) if self.theory == "timoshenko" else sp.S.Zero
+                B = p["torque"] * plane_template()["torque"].xreplace({l_sym: l, phi_sym: phi}).T
+                KT = sp.zeros(8, 8)
+                KT[:4, 4:] = B * sign
+                KT[4:, :4] = -sign * B
+                symmetric = ((KT + KT.T) / 2).applyfunc(sp.factor)
+                stiffness = sp.ImmutableMatrix(stiffness + symmetric)
+                circulatory = sp.ImmutableMatrix(((KT - KT.T) / 2).applyfunc(sp.factor))
             gyro = None
             if self.gyroscopic:
                 # T_g = Omega rho I_p int thx' thy dz, beta_y = N_beta (sign q_y) so thx = -N_beta (sign q_y),
@@ -394,19 +425,20 @@ class BeamSegment(Element):
                 gyro = sp.zeros(8, 8)
                 gyro[4:, :4] = -spin * 2 * rhoI * (sign * Mr)
                 gyro = sp.ImmutableMatrix(gyro)
-            cached = _FORMS[key] = ((p, spin), mass, stiffness, gyro)
+            cached = _FORMS[key] = ((p, spin), mass, stiffness, gyro, circulatory)
         return cached
 
     def contribute(self, ctx):
         import sympy as sp
 
         p = ctx.p
-        (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t = self._forms_template()
+        (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t, circ_t = self._forms_template()
         rename = {v: p[k] for k, v in placeholders.items() if k in p}
         rename[spin_symbol] = ctx.speed(self.start)
         mass, stiffness = mass_t.xreplace(rename), stiffness_t.xreplace(rename)
         gyro = gyro_t.xreplace(rename) if gyro_t is not None else None
-        forms = []
+        circulatory = circ_t.xreplace(rename) if circ_t is not None else None
+        forms, loads = [], {}
         nodes = self.nodes()
         for a, b in zip(nodes, nodes[1:]):
             cx = [ctx.coord(a, "x"), ctx.coord(a, "thy"), ctx.coord(b, "x"), ctx.coord(b, "thy")]
@@ -415,6 +447,10 @@ class BeamSegment(Element):
             speeds = tuple(c[1] for c in cx + cy)
             forms.append(QuadraticForm(coordinates=coords, speeds=speeds, mass=mass, stiffness=stiffness,
                                        gyroscopic=gyro))
+            if circulatory is not None:  # the skew part of the torque's stiffness: the load -K_skew q
+                for q, f in zip(coords, -(circulatory * sp.Matrix(coords))):
+                    if f != 0:
+                        loads[q] = loads.get(q, sp.S.Zero) + f
             if self.torsion:
                 _, rhoI, _, _, GIp, l = self._section(p)
                 (qa, ua), (qb, ub) = ctx.coord(a, "alpha"), ctx.coord(b, "alpha")
@@ -423,9 +459,10 @@ class BeamSegment(Element):
                                            mass=sp.Matrix([[Jl / 3, Jl / 6], [Jl / 6, Jl / 3]]),
                                            stiffness=sp.Matrix([[GIp / l, -GIp / l], [-GIp / l, GIp / l]])))
         frame = base_frame(ctx)
-        if frame is None:
-            return Terms(quadratic=tuple(forms))
-        return Terms(quadratic=tuple(forms), loads=self._base_rotation_loads(ctx, frame))
+        if frame is not None:
+            for q, f in self._base_rotation_loads(ctx, frame).items():
+                loads[q] = loads.get(q, sp.S.Zero) + f
+        return Terms(quadratic=tuple(forms), loads=loads) if loads else Terms(quadratic=tuple(forms))
 
     # -- a turning base (BaseRotation) -----------------------------------------
     def node_positions(self, positions):

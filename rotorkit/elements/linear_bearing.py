@@ -26,6 +26,23 @@ parameters ``<label>_speed<i>``, ``<label>_kxx<i>``, ...; a rotor whose speed
 follows a :class:`~rotorkit.elements.speed.SpeedProfile` sees the
 coefficients change along the run.
 
+Coefficients against the whirl frequency (``frequencies=``, rad/s, with or
+without ``speeds``): a table ``kxx[j]`` per frequency, or a grid
+``kxx[i][j]`` (speed ``i``, frequency ``j``), the same interpolation and
+extrapolation along each axis (tensor product: each speed row interpolated
+in the frequency first, then the rows in the speed; bilinear for
+``"linear"``). The table is read at the frequency ::
+
+    nu = whirl_ratio * Omega + whirl_frequency
+
+two parameters of the bearing: ``whirl=None`` (default) gives ``whirl_ratio =
+1``, ``whirl_frequency = 0``, the synchronous frequency of an unbalance
+response; ``whirl=<value>`` a fixed frequency (``whirl_ratio = 0``). The
+modal analysis that reads each mode's coefficients at that mode's own
+frequency is :func:`rotorkit.linear.matched_whirl.matched_whirl_modes`.
+The grid entries are parameters ``<label>_frequency<j>``,
+``<label>_kxx<i>_<j>`` (``<label>_kxx<j>`` without speeds).
+
 Moment (tilt) coefficients ``ktxx, ktxy, ktyx, ktyy`` (N m/rad) and
 ``ctxx, ctxy, ctyx, ctyy`` (N m s/rad) act on the tilts ``(thx, thy)`` the
 same way: the moment on the journal is ``M = -K_t theta - C_t theta'``
@@ -66,6 +83,8 @@ _TILT = _TILT_STIFF + _TILT_DAMP
 _MASS = ("mxx", "mxy", "myx", "myy")
 _DIRECT = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy", "mxx", "myy")
 _COEFFS = _STIFF + _DAMP + _TILT + _MASS
+_WHIRL = ("whirl_ratio", "whirl_frequency")
+_ENTRY = re.compile(r"([a-z]+?)(\d+)(?:_(\d+))?")
 INTERPOLATIONS = ("linear", "pchip")
 EXTRAPOLATIONS = ("hold", "linear")
 _PEDESTAL = "pedestal_"
@@ -99,6 +118,13 @@ class LinearBearing(Element):
     extrapolation : {"hold", "linear"}
         Outside the table: end values held, or continued along the end
         slopes (tables only).
+    frequencies : sequence of float, optional
+        Whirl frequencies (rad/s, increasing) of a table against frequency:
+        each coefficient is then a list over them, or with ``speeds`` a
+        list of rows (one per speed) over them.
+    whirl : float or pint.Quantity, optional
+        Frequency (rad/s) at which a frequency table is read in the
+        equations; None (default): the rotor speed (synchronous).
     pedestal : Pedestal, optional
         The housing is a support mass on its own springs to the ground
         (coordinates ``px<station>``, ``py<station>``); only with
@@ -139,6 +165,8 @@ class LinearBearing(Element):
     myx: float | None = None
     myy: float | None = None
     speeds: tuple | None = None
+    frequencies: tuple | None = None
+    whirl: float | None = None
     interpolation: str = "linear"
     extrapolation: str = "hold"
     pedestal: Pedestal | None = None
@@ -151,6 +179,10 @@ class LinearBearing(Element):
         **{f: ("N*m*s/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_DAMP},
         **{f: ("kg", "nonnegative" if f in _DIRECT else None) for f in _MASS},
     }
+    #: direct coefficients checked >= 0 in a table (a Seal allows a negative direct stiffness)
+    _direct_checked = _DIRECT
+    #: how the required direct stiffness is described in messages
+    _direct_rule = ", >= 0"
     _latex_names = {**{f: f"{f[0]}_{{{f[1:]}}}" for f in _STIFF + _DAMP + _MASS},
                     **{f: rf"{f[0]}_{{\theta {f[2:]}}}" for f in _TILT},
                     **{_PEDESTAL + f: rf"{f[0]}_{{p,{f[1:]}}}" for f in ("kxx", "kyy", "cxx", "cyy")},
@@ -168,6 +200,27 @@ class LinearBearing(Element):
         """
         return cls(station=station, other_station=other_station, name=name, speeds=speeds, pedestal=pedestal,
                    interpolation=interpolation, extrapolation=extrapolation, **coefficients)
+
+    @classmethod
+    def frequency_table(cls, *, station, frequencies, speeds=None, whirl=None, other_station=None, name=None,
+                        pedestal=None, interpolation="linear", extrapolation="hold", **coefficients):
+        """Coefficients against the whirl frequency: ``frequencies`` (rad/s, increasing), optionally ``speeds`` too.
+
+        Without ``speeds`` each coefficient is a list, one value per
+        frequency; with ``speeds`` a list of rows, ``kxx[i][j]`` at
+        ``speeds[i]`` and ``frequencies[j]``. ``whirl``: the fixed frequency
+        (rad/s) at which the equations read the table (None: the rotor
+        speed). See the module docstring.
+
+        Examples
+        --------
+        >>> b = LinearBearing.frequency_table(station=1, frequencies=[0.0, 1000.0], kxx=[1e6, 2e6], kyy=[1e6, 2e6])
+        >>> sorted(b.parameters())
+        ['frequency0', 'frequency1', 'kxx0', 'kxx1', 'kyy0', 'kyy1', 'whirl_frequency', 'whirl_ratio']
+        """
+        return cls(station=station, other_station=other_station, name=name, speeds=speeds,
+                   frequencies=frequencies, whirl=whirl, pedestal=pedestal, interpolation=interpolation,
+                   extrapolation=extrapolation, **coefficients)
 
     @classmethod
     def from_csv(cls, path, *, station, **options):
@@ -202,85 +255,145 @@ class LinearBearing(Element):
         for text in rows[0]:
             match = re.fullmatch(r"\s*([A-Za-z_]\w*)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", text)
             key = match.group(1).lower() if match else text.strip()
-            if key in ("speed", "speeds"):
-                key = "speed"
-            if not match or (key != "speed" and key not in _COEFFS):
+            key = {"speeds": "speed", "frequencies": "frequency"}.get(key, key)
+            if not match or (key not in ("speed", "frequency") and key not in _COEFFS):
                 raise ParameterError(f"{who}: column {text.strip()!r}: expected 'speed' or a coefficient "
-                                     f"({', '.join(_COEFFS)}), optionally with a unit in brackets, e.g. 'kxx [N/m]'")
+                                     f"({', '.join(_COEFFS)}) or 'frequency', optionally with a unit in brackets, "
+                                     "e.g. 'kxx [N/m]'")
             columns.append((key, match.group(2)))
-        if "speed" not in [k for k, _ in columns]:
-            raise ParameterError(f"{who}: no 'speed' column; the header is {rows[0]!r}")
+        keys = [k for k, _ in columns]
+        if "speed" not in keys and "frequency" not in keys:
+            raise ParameterError(f"{who}: no 'speed' column (nor 'frequency'); the header is {rows[0]!r}")
         table = {key: [] for key, _ in columns}
         for line, row in enumerate(rows[1:], start=2):
             if len(row) != len(columns):
                 raise ParameterError(f"{who}: data row {line - 1} has {len(row)} values, expected {len(columns)}")
             for (key, unit), text in zip(columns, row):
-                si = "rad/s" if key == "speed" else cls._units[key][0]
+                si = "rad/s" if key in ("speed", "frequency") else cls._units[key][0]
                 try:
                     value = float(text)
                 except ValueError:
                     raise ParameterError(f"{who}: data row {line - 1}, column {key!r}: {text.strip()!r} is not a "
                                          "number") from None
                 table[key].append(to_si(f"{value!r} {unit}", si, f"{who} {key}") if unit else value)
-        speeds = table.pop("speed")
-        return cls.tabulated(station=station, speeds=speeds, **table, **options)
+        if "frequency" not in table:
+            speeds = table.pop("speed")
+            return cls.tabulated(station=station, speeds=speeds, **table, **options)
+        frequencies = table.pop("frequency")
+        if "speed" not in table:
+            return cls.frequency_table(station=station, frequencies=frequencies, **table, **options)
+        speeds = table.pop("speed")  # one row per (speed, frequency) pair of a full grid, in any order
+        axis_s, axis_f = sorted(set(speeds)), sorted(set(frequencies))
+        cells = {}
+        for k, pair in enumerate(zip(speeds, frequencies)):
+            if pair in cells:
+                raise ParameterError(f"{who}: speed {pair[0]!r} and frequency {pair[1]!r} appear twice (data rows "
+                                     f"{cells[pair] + 1} and {k + 1})")
+            cells[pair] = k
+        missing = [(w, f) for w in axis_s for f in axis_f if (w, f) not in cells]
+        if missing:
+            raise ParameterError(f"{who}: a table against speed and frequency needs every pair; missing speed "
+                                 f"{missing[0][0]!r} with frequency {missing[0][1]!r} ({len(missing)} pairs missing)")
+        grid = {key: [[values[cells[(w, f)]] for f in axis_f] for w in axis_s] for key, values in table.items()}
+        return cls.frequency_table(station=station, speeds=axis_s, frequencies=axis_f, **grid, **options)
 
     def to_csv(self, path):
-        """Write the table (SI units in the header) for :meth:`from_csv`."""
-        if self.speeds is None:
-            raise ParameterError(f"LinearBearing {self.label()!r}: to_csv needs a table (speeds=...)")
+        """Write the table (SI units in the header) for :meth:`from_csv`; a grid one row per (speed, frequency)."""
+        if not self._tabulated():
+            raise ParameterError(f"{type(self).__name__} {self.label()!r}: to_csv needs a table (speeds=... or "
+                                 "frequencies=...)")
         present = self._present()
+        axes = ((["speed [rad/s]"] if self.speeds is not None else [])
+                + (["frequency [rad/s]"] if self.frequencies is not None else []))
+        if self._grid():
+            rows = [([w, f], [getattr(self, c)[i][j] for c in present]) for i, w in enumerate(self.speeds)
+                    for j, f in enumerate(self.frequencies)]
+        else:
+            xs = self.speeds if self.speeds is not None else self.frequencies
+            rows = [([x], [getattr(self, c)[i] for c in present]) for i, x in enumerate(xs)]
         with open(path, "w", newline="") as handle:
             writer = csv.writer(handle)
-            writer.writerow(["speed [rad/s]"] + [f"{f} [{self._units[f][0]}]" for f in present])
-            for i, w in enumerate(self.speeds):
-                writer.writerow([repr(w)] + [repr(getattr(self, f)[i]) for f in present])
+            writer.writerow(axes + [f"{f} [{self._units[f][0]}]" for f in present])
+            for head, values in rows:
+                writer.writerow([repr(v) for v in head + values])
+
+    def _who(self):
+        return f"{type(self).__name__} at station {self.station!r}"
+
+    def _tabulated(self):
+        return self.speeds is not None or self.frequencies is not None
+
+    def _grid(self):
+        """True for a table against speed and frequency (rows per speed of values per frequency)."""
+        return self.speeds is not None and self.frequencies is not None
 
     def __post_init__(self):
-        if self.speeds is None:
+        if not self._tabulated():
+            if self.whirl is not None:
+                raise ParameterError(f"{self._who()}: whirl = {self.whirl!r} is only used with a table against "
+                                     "frequency (frequencies=...)")
             Element.__post_init__(self)
             return
-        who = f"LinearBearing at station {self.station!r}"
+        who = self._who()
         tables = {}
-        speeds = None
         for f in _COEFFS:
             values = getattr(self, f)
             if values is None:
                 continue
-            unit = self._units[f][0]
-            xs, ys = check_table(self.speeds, "speeds", f, values, unit_x="rad/s", unit_y=unit, owner=who)
-            speeds = xs
-            tables[f] = ys
+            tables[f] = values
             object.__setattr__(self, f, None)  # hidden from the scalar unit checks
         Element.__post_init__(self)
-        if speeds is None:
-            speeds = check_table(self.speeds, "speeds", "speeds", self.speeds, unit_x="rad/s", unit_y="rad/s",
-                                 owner=who)[0]
+        axes = {}
+        for axis in ("speeds", "frequencies"):
+            if getattr(self, axis) is not None:
+                axes[axis] = check_table(getattr(self, axis), axis, axis, getattr(self, axis), unit_x="rad/s",
+                                         unit_y="rad/s", owner=who)[0]
+        speeds, frequencies = axes.get("speeds"), axes.get("frequencies")
+        for f, values in tables.items():
+            unit = self._units[f][0]
+            if speeds is None or frequencies is None:
+                name, xs = ("speeds", speeds) if frequencies is None else ("frequencies", frequencies)
+                tables[f] = check_table(xs, name, f, values, unit_x="rad/s", unit_y=unit, owner=who)[1]
+                continue
+            if isinstance(values, (str, bytes)) or not hasattr(values, "__len__") or len(values) != len(speeds):
+                raise ParameterError(f"{who}: {f} = {values!r}: expected {len(speeds)} rows (one per speed) of "
+                                     f"{len(frequencies)} values (one per frequency)")
+            tables[f] = tuple(check_table(frequencies, "frequencies", f"{f}[{i}]", row, unit_x="rad/s", unit_y=unit,
+                                          owner=who)[1] for i, row in enumerate(values))
         object.__setattr__(self, "speeds", speeds)
+        object.__setattr__(self, "frequencies", frequencies)
+        if self.whirl is not None:
+            if frequencies is None:
+                raise ParameterError(f"{who}: whirl = {self.whirl!r} is only used with a table against frequency "
+                                     "(frequencies=...)")
+            from ..units import to_si
+
+            object.__setattr__(self, "whirl", to_si(self.whirl, "rad/s", f"{who} whirl"))
         for f, ys in tables.items():
             object.__setattr__(self, f, ys)
         self._check_direct()
         self._check_added_mass()
 
     def _validate(self):
-        who = f"LinearBearing at station {self.station!r}"
-        object.__setattr__(self, "station", check_station("LinearBearing", self.station, "station"))
+        who = self._who()
+        object.__setattr__(self, "station", check_station(type(self).__name__, self.station, "station"))
         if self.other_station is not None:
             object.__setattr__(self, "other_station", check_station(who, self.other_station, "other_station"))
             if self.other_station == self.station:
                 raise ParameterError(f"{who}: other_station = {self.other_station!r} is the journal station itself; "
                                      "give the housing's station (or None for the ground)")
-        if self.speeds is None:
+        if not self._tabulated():
             for f in ("kxx", "kyy"):
                 if getattr(self, f) is None:
-                    raise ParameterError(f"{who}: {f} is required (N/m, >= 0)")
+                    raise ParameterError(f"{who}: {f} is required (N/m{self._direct_rule})")
         for f, allowed in (("interpolation", INTERPOLATIONS), ("extrapolation", EXTRAPOLATIONS)):
             value = getattr(self, f)
             if not isinstance(value, str) or value not in allowed:
                 raise ParameterError(f"{who}: {f} = {value!r}: expected one of {allowed}")
-            if self.speeds is None and value != allowed[0]:
-                raise ParameterError(f"{who}: {f} = {value!r} is only used with a table (speeds=...)")
-        if self.speeds is None:
+            if not self._tabulated() and value != allowed[0]:
+                raise ParameterError(f"{who}: {f} = {value!r} is only used with a table (speeds=... or "
+                                     "frequencies=...)")
+        if not self._tabulated():
             self._check_added_mass()
         if self.pedestal is not None:
             if not isinstance(self.pedestal, Pedestal):
@@ -291,20 +404,24 @@ class LinearBearing(Element):
                                      "bearing's housing is the other rotor; put the pedestal on a bearing to ground")
 
     def _check_direct(self):
-        who = f"LinearBearing at station {self.station!r}"
+        who = self._who()
         for f in ("kxx", "kyy"):
             if getattr(self, f) is None:
-                raise ParameterError(f"{who}: {f} is required (a list of N/m values, one per speed)")
-        for f in _DIRECT:
+                raise ParameterError(f"{who}: {f} is required (a list of N/m values, one per table entry)")
+        for f in self._direct_checked:
             values = getattr(self, f)
-            for i, v in enumerate(values or ()):
+            if values is None:
+                continue
+            flat = [(f"{i}][{j}", v) for i, row in enumerate(values) for j, v in enumerate(row)] if self._grid() \
+                else list(enumerate(values))
+            for i, v in flat:
                 if v < 0:
                     raise ParameterError(f"{who}: {f}[{i}] = {v!r} is negative; direct coefficients must be >= 0 "
                                          "(a negative direct stiffness or damping is a destabilising support)")
 
     def _check_added_mass(self):
         if self.mxy != self.myx:
-            raise ParameterError(f"LinearBearing at station {self.station!r}: mxy = {self.mxy!r} and myx = "
+            raise ParameterError(f"{self._who()}: mxy = {self.mxy!r} and myx = "
                                  f"{self.myx!r} differ; expected a symmetric added mass (mxy == myx, both given or "
                                  "neither): the model's mass matrix is symmetric")
 
@@ -316,27 +433,43 @@ class LinearBearing(Element):
         return any(getattr(self, f) is not None for f in _TILT)
 
     def parameters(self):
-        if self.speeds is None:
+        if not self._tabulated():
             out = Element.parameters(self)
         else:
-            out = {f"speed{i}": v for i, v in enumerate(self.speeds)}
+            out = {}
+            if self.speeds is not None:
+                out.update({f"speed{i}": v for i, v in enumerate(self.speeds)})
+            if self.frequencies is not None:
+                out.update({f"frequency{j}": v for j, v in enumerate(self.frequencies)})
+                out["whirl_ratio"] = 1.0 if self.whirl is None else 0.0
+                out["whirl_frequency"] = 0.0 if self.whirl is None else self.whirl
             for f in self._present():
-                out.update({f"{f}{i}": v for i, v in enumerate(getattr(self, f))})
+                values = getattr(self, f)
+                if self._grid():
+                    out.update({f"{f}{i}_{j}": v for i, row in enumerate(values) for j, v in enumerate(row)})
+                else:
+                    out.update({f"{f}{i}": v for i, v in enumerate(values)})
         if self.pedestal is not None:
             out.update({_PEDESTAL + f: v for f, v in self.pedestal.parameters().items()})
         return out
 
     def _split(self, field_name):
-        base = field_name.rstrip("0123456789")
-        return base, int(field_name[len(base):])
+        """``"kxx3"`` -> ``("kxx", 3, None)``, ``"kxx3_1"`` -> ``("kxx", 3, 1)`` (speed row, frequency column)."""
+        match = _ENTRY.fullmatch(field_name)
+        if match is None:
+            return field_name, None, None
+        j = match.group(3)
+        return match.group(1), int(match.group(2)), None if j is None else int(j)
 
     def unit_of(self, field_name):
         if field_name.startswith(_PEDESTAL):
             return self.pedestal.unit_of(field_name[len(_PEDESTAL):])
-        if self.speeds is None or field_name in self._units:
+        if field_name in _WHIRL:
+            return "" if field_name == "whirl_ratio" else "rad/s"
+        if not self._tabulated() or field_name in self._units:
             return Element.unit_of(self, field_name)
-        base, _ = self._split(field_name)
-        return "rad/s" if base == "speed" else self._units[base][0]
+        base = self._split(field_name)[0]
+        return "rad/s" if base in ("speed", "frequency") else self._units[base][0]
 
     def parameter_units(self):
         return {f: self.unit_of(f) for f in self.parameters()}
@@ -344,10 +477,10 @@ class LinearBearing(Element):
     def parameter_sign(self, field_name):
         if field_name.startswith(_PEDESTAL):
             return Pedestal._units[field_name[len(_PEDESTAL):]][1]
-        if self.speeds is None:
+        if not self._tabulated():
             return Element.parameter_sign(self, field_name)
-        base, _ = self._split(field_name)
-        return None if base == "speed" else self._units[base][1]
+        base = self._split(field_name)[0]
+        return None if base in ("speed", "frequency") or field_name in _WHIRL else self._units[base][1]
 
     def replace_parameters(self, **fields):
         pedestal = self.pedestal
@@ -355,17 +488,36 @@ class LinearBearing(Element):
         mine = {k[len(_PEDESTAL):]: v for k, v in fields.items() if k.startswith(_PEDESTAL)}
         if mine:
             pedestal = pedestal.replace(**mine)
-        if self.speeds is None:
+        if not self._tabulated():
             return dataclasses.replace(self, pedestal=pedestal, **own)
-        tables = {f: list(getattr(self, f)) for f in self._present()}
-        tables["speed"] = list(self.speeds)
+        tables = {f: [list(r) for r in getattr(self, f)] if self._grid() else list(getattr(self, f))
+                  for f in self._present()}
+        axes = {"speed": None if self.speeds is None else list(self.speeds),
+                "frequency": None if self.frequencies is None else list(self.frequencies)}
+        whirl = {"whirl_ratio": 1.0 if self.whirl is None else 0.0,
+                 "whirl_frequency": 0.0 if self.whirl is None else self.whirl}
         for name, value in own.items():
-            base, i = self._split(name)
-            tables[base][i] = value
-        speeds = tables.pop("speed")
-        return LinearBearing(station=self.station, other_station=self.other_station, name=self.name,
-                             speeds=speeds, pedestal=pedestal, interpolation=self.interpolation,
-                             extrapolation=self.extrapolation, **tables)
+            if name in _WHIRL:
+                whirl[name] = value
+                continue
+            base, i, j = self._split(name)
+            if base in axes:
+                axes[base][i] = value
+            elif j is None:
+                tables[base][i] = value
+            else:
+                tables[base][i][j] = value
+        if whirl["whirl_ratio"] == 0.0:
+            fixed = whirl["whirl_frequency"]
+        elif whirl["whirl_ratio"] == 1.0 and whirl["whirl_frequency"] == 0.0:
+            fixed = None
+        else:
+            raise ParameterError(f"{self._who()}: whirl_ratio = {whirl['whirl_ratio']!r} with whirl_frequency = "
+                                 f"{whirl['whirl_frequency']!r}: expected whirl_ratio 1 with whirl_frequency 0 "
+                                 "(synchronous) or whirl_ratio 0 (a fixed frequency)")
+        return type(self)(station=self.station, other_station=self.other_station, name=self.name,
+                          speeds=axes["speed"], frequencies=axes["frequency"], whirl=fixed, pedestal=pedestal,
+                          interpolation=self.interpolation, extrapolation=self.extrapolation, **tables)
 
     def structure(self):
         present = tuple(self._present())
@@ -374,6 +526,8 @@ class LinearBearing(Element):
         # the interpolation only when not the default: the keys of existing models stay the same
         table = n if (self.interpolation, self.extrapolation) == ("linear", "hold") else (
             n, self.interpolation, self.extrapolation)
+        if self.frequencies is not None:  # a frequency table: its own key (tables against speed keep theirs)
+            table = ("frequency", n, len(self.frequencies), self.interpolation, self.extrapolation)
         return (type(self).__name__, self.label(), (("station", repr(self.station)),
                                                     ("other_station", repr(self.other_station)),
                                                     ("coefficients", present), ("table", table),
@@ -443,11 +597,21 @@ class LinearBearing(Element):
 
         if getattr(self, f) is None:
             return sp.S.Zero
-        if self.speeds is None:
+        if not self._tabulated():
             return ctx.p[f]
-        n = len(self.speeds)
-        return interpolate_table(ctx.speed(self.station), [ctx.p[f"speed{i}"] for i in range(n)],
-                                 [ctx.p[f"{f}{i}"] for i in range(n)], self.interpolation, self.extrapolation)
+        how = (self.interpolation, self.extrapolation)
+        speed = ctx.speed(self.station)
+        if self.frequencies is None:
+            n = len(self.speeds)
+            return interpolate_table(speed, [ctx.p[f"speed{i}"] for i in range(n)],
+                                     [ctx.p[f"{f}{i}"] for i in range(n)], *how)
+        nu = ctx.p["whirl_ratio"] * speed + ctx.p["whirl_frequency"]
+        freqs = [ctx.p[f"frequency{j}"] for j in range(len(self.frequencies))]
+        if self.speeds is None:
+            return interpolate_table(nu, freqs, [ctx.p[f"{f}{j}"] for j in range(len(freqs))], *how)
+        rows = [interpolate_table(nu, freqs, [ctx.p[f"{f}{i}_{j}"] for j in range(len(freqs))], *how)
+                for i in range(len(self.speeds))]  # each speed row at the frequency, then across the speeds
+        return interpolate_table(speed, [ctx.p[f"speed{i}"] for i in range(len(rows))], rows, *how)
 
     def _pair(self, ctx, axes, housing_axes, stiff, damp, mass=None):
         """(V, D, loads, T) of ``F = -K d - C d' - M_a d''`` on the journal's ``axes`` against the housing's."""

@@ -193,6 +193,9 @@ class TaperedBeamSegment(BeamSegment):
 
     def _validate(self):
         who = f"TaperedBeamSegment {self.start!r}-{self.end!r}"
+        if self.torque is not None:
+            raise ParameterError(f"{who}: torque = {self.torque!r}: an axial torque is available on BeamSegment "
+                                 "only; split the taper into uniform BeamSegments to carry a torque")
         if self.outer_diameter_end is None:
             raise ParameterError(f"{who}: outer_diameter_end is required (m, > 0); for a uniform shaft use "
                                  "BeamSegment")

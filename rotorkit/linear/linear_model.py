@@ -226,7 +226,7 @@ class LinearModel:
 
     def matrices(self, speed=0.0):
         """``(M, C + W G, K + W H)`` at the swept speed ``W`` (rad/s), plus any :attr:`speed_terms` there."""
-        w = _speed(speed)
+        w = speed_si(speed)
         C, K = self.damping + w * self.gyroscopic, self.stiffness + w * self.circulatory
         if self.speed_terms is not None:
             dC, dK = self.speed_terms(w)
@@ -235,7 +235,7 @@ class LinearModel:
 
     def state_matrix(self, speed=0.0):
         """``A = [[0, I], [-M^-1 K, -M^-1 C]]`` at speed ``W``, shape (2n, 2n)."""
-        w = _speed(speed)
+        w = speed_si(speed)
         minv_k, minv_h, minv_c, minv_g = self._mass_normalised
         n = self.n
         A = np.zeros((2 * n, 2 * n))
@@ -271,7 +271,7 @@ class LinearModel:
         """
         from .modal import modes_from_matrices, modes_from_state_matrix
 
-        w = _speed(speed)
+        w = speed_si(speed)
         if n_modes is not None and 2 * self.n > 4 * int(n_modes) + 20:
             M, C, K, G, H = self._sparse
             C, K = C + w * G, K + w * H
@@ -294,7 +294,7 @@ class LinearModel:
                                                      self.circulatory))
 
 
-def _speed(speed, name="speed"):
+def speed_si(speed, name="speed"):
     """A swept speed in rad/s from a float (rad/s), a pint quantity or a string such as ``"3000 rpm"``."""
     if isinstance(speed, str) or hasattr(speed, "units"):
         from ..units import to_si
@@ -401,8 +401,8 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         check_system(system, "linear_model")
     model, speed_parameter = frozen_system(system, speed_parameter, speed, t)
     values = model.parameters
-    w0 = values[speed_parameter] if speed is None else _speed(speed)
-    dw = max(1.0, 0.01 * abs(w0)) if speed_step is None else _speed(speed_step, "speed_step")
+    w0 = values[speed_parameter] if speed is None else speed_si(speed)
+    dw = max(1.0, 0.01 * abs(w0)) if speed_step is None else speed_si(speed_step, "speed_step")
     if dw <= 0:
         raise ParameterError(f"speed_step={speed_step!r} is invalid: expected a positive speed step (rad/s)")
     if speed_dependence not in ("exact", "first-order"):

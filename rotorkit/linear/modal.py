@@ -393,7 +393,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
         Further :class:`Modes` fields (operating point, sample times, speed ...).
     """
     n = len(names)
-    n_modes = _check_count(n_modes)
+    n_modes = check_count(n_modes)
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
         eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
     elif left:
@@ -434,7 +434,7 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
         Further :class:`Modes` fields.
     """
     n = len(names)
-    n_modes = _check_count(n_modes)
+    n_modes = check_count(n_modes)
     dense = [np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
              for A in (mass, damping, stiffness)]
     if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
@@ -453,7 +453,7 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
     return modes_from_state_matrix(A, names, mass=M, left=left, n_modes=n_modes, **fields)
 
 
-def _check_count(n_modes):
+def check_count(n_modes):
     if n_modes is None:
         return None
     if isinstance(n_modes, bool) or not isinstance(n_modes, numbers.Integral) or n_modes < 1:

@@ -1,0 +1,111 @@
+"""Modal damping: a viscous damping matrix that gives each undamped mode the damping ratio asked for.
+
+From the undamped, non-rotating modes of a model (``K phi = w^2 M phi`` with
+the symmetric part of the stiffness at rest, no gyroscopics, mass-normalised
+so that ``Phi^T M Phi = I``), the matrix ::
+
+    C = M Phi diag(2 zeta_k w_k) Phi^T M
+
+is diagonal in those modes: mode ``k`` of ``M q'' + C q' + K q = 0`` keeps
+its shape and has exactly the damping ratio ``zeta_k`` (Caughey and
+O'Kelly 1965; Craig and Kurdila, *Fundamentals of Structural Dynamics*,
+2006, section 10.3; Friswell et al. 2010, section 2.5.5). Modes beyond the
+ratios given (``remaining``, default 0) and rigid-body modes (``w = 0``) get
+no damping. The damping is non-rotating: it adds no circulatory terms, and
+at speed the gyroscopic coupling mixes the modes, so their ratios then
+differ from ``zeta_k``.
+
+The matrix is numeric (it depends on every parameter through the modes):
+:func:`modal_damping_matrix` returns it for a model at given parameter
+values, to be added to the damping of a linear analysis
+(:func:`~rotorkit.analysis.modal.modes_from_matrices`); see
+:func:`modal_damped_modes`. It is not (yet) an option of ``Rotor(damping=...)``:
+it does not enter the derived equations nor time simulations.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+from ..errors import ParameterError
+
+__all__ = ["modal_damping_matrix", "modal_damped_modes", "undamped_modes"]
+
+
+def _ratios(ratios, remaining):
+    if isinstance(ratios, (str, bytes)) or not hasattr(ratios, "__len__") or len(ratios) == 0:
+        raise ParameterError(f"ratios={ratios!r} is invalid: expected a non-empty sequence of damping ratios (-)")
+    out = []
+    for i, z in enumerate(list(ratios) + [remaining]):
+        name = f"ratios[{i}]" if i < len(ratios) else "remaining"
+        if isinstance(z, bool) or not isinstance(z, numbers.Real) or not 0 <= z < 1:
+            raise ParameterError(f"{name}={z!r} is invalid: expected a damping ratio in [0, 1)")
+        out.append(float(z))
+    return out[:-1], out[-1]
+
+
+def undamped_modes(model, values=None, t=0.0):
+    """``(M, K_s, w, Phi)``: mass, symmetric stiffness at rest and the undamped modes of ``model``.
+
+    ``w`` (rad/s, ascending, shape (n,)) and ``Phi`` (n, n) mass-normalised
+    (``Phi^T M Phi = I``); every rotor speed set to 0.
+    """
+    from scipy.linalg import eigh
+
+    from .linear_matrices import linear_matrices, rotor_spin_speeds
+
+    values = dict(model.parameters if values is None else values)
+    for name in rotor_spin_speeds(model, t, values):
+        if f"{name}_speed" in values:
+            values[f"{name}_speed"] = 0.0
+    matrices = linear_matrices(model, t, values)
+    if matrices is None:
+        raise ParameterError(f"modal damping: {model.name!r} has forces that are not linear; expected a linear model")
+    M, _, K = (A.toarray() for A in matrices)
+    K = (K + K.T) / 2
+    w2, Phi = eigh(K, M)
+    return M, K, np.sqrt(np.clip(w2, 0.0, None)), Phi
+
+
+def modal_damping_matrix(model, ratios, *, remaining=0.0, values=None, t=0.0):
+    """``C = M Phi diag(2 zeta_k w_k) Phi^T M`` (N s/m, N m s/rad), shape (n, n), in coordinate order.
+
+    Parameters
+    ----------
+    model : rotorkit.Model
+        A linear model; its undamped non-rotating modes are used.
+    ratios : sequence of float
+        Damping ratios of the lowest modes, in ascending frequency.
+    remaining : float
+        Damping ratio of every further mode (default 0).
+    values : dict, optional
+        Parameter values (SI), default ``model.parameters``.
+    t : float
+        Time (s) of time-dependent parameters.
+    """
+    ratios, remaining = _ratios(ratios, remaining)
+    M, _, w, Phi = undamped_modes(model, values, t)
+    zeta = np.full(w.size, remaining)
+    zeta[:min(len(ratios), w.size)] = ratios[:w.size]
+    MPhi = M @ Phi
+    return (MPhi * (2.0 * zeta * w)) @ MPhi.T
+
+
+def modal_damped_modes(model, ratios, *, remaining=0.0, speed=0.0, values=None, n_modes=None):
+    """:class:`~rotorkit.analysis.modal.Modes` of ``model`` with the modal damping added to its own damping.
+
+    ``speed`` (rad/s) is the speed of every rotor with its own constant
+    speed (the damping itself is always built at rest).
+    """
+    from .linear_matrices import linear_matrices
+    from .modal import modes_from_matrices
+
+    values = dict(model.parameters if values is None else values)
+    C_modal = modal_damping_matrix(model, ratios, remaining=remaining, values=values)
+    for name, rotor in model.rotors.items():
+        if rotor.speed is not None and f"{name}_speed" in values:
+            values[f"{name}_speed"] = float(speed)
+    M, C, K = (A.toarray() for A in linear_matrices(model, 0.0, values))
+    return modes_from_matrices(M, C + C_modal, K, tuple(model.coordinate_names), n_modes=n_modes, speed=float(speed))
