@@ -9,8 +9,9 @@ Prints
 2. Someya's Journal-Bearing Databook, two-axial-groove bearing (pp. 14 and 17; transcription in
    github.com/VictorLier/Tribology, Assignment2/Someya.py): for each printed Sommerfeld number, the differences in
    eccentricity ratio and attitude angle and the largest coefficient difference over the largest coefficient
-   (stiffness as computed, stiffness in the Databook's rigid-turn convention, damping), grooves 10 degrees wide at
-   +-90 degrees from the load, grid 120 x 16; and how closely the printed stiffness obeys the rigid turn;
+   (stiffness as computed, stiffness in the Databook's rigid-turn convention, damping), grooves 7.5 degrees wide at
+   +-90 degrees from the load, grid 96 x 16 (the groove edges on nodes); and how closely the printed stiffness obeys
+   the rigid turn;
 3. medians of one cavitated film solve on a 60 x 20 grid and of ``coefficients`` per speed, with the load average.
 """
 
@@ -86,7 +87,7 @@ def rigid_turn(k, eps, phi):
 
 
 def someya(quick):
-    print("2. Someya two-axial-groove bearing (grooves 10 deg at +-90 deg from the load, grid 120 x 16)")
+    print("2. Someya two-axial-groove bearing (grooves 7.5 deg at +-90 deg from the load, grid 96 x 16: edges on nodes)")
     print("   the printed table: max|K e_t - (0, 1/eps)| / max|K| (0 for a film that turns rigidly with the journal)")
     for ld, rows in SOMEYA.items():
         residual = [np.abs(np.reshape(r[3:7], (2, 2)) @ [-math.sin(math.radians(r[2])), math.cos(math.radians(r[2]))]
@@ -97,7 +98,7 @@ def someya(quick):
     print("   L/D  eps   d_eps    dphi[deg]  K fixed  K turn  C")
     for ld, rows in SOMEYA.items():
         b = PlainJournalBearing(diameter=D, length=ld * D, clearance=C, viscosity=MU, load=W,
-                                grooves=((0.0, 10.0), (180.0, 10.0)), n_theta=120, n_z=16)
+                                grooves=((0.0, 7.5), (180.0, 7.5)), n_theta=96, n_z=16)
         for s, eps, phi, *coefficients in rows[::3] if quick else rows:
             omega = s * W * 2 * math.pi / (MU * ld * D * D * (D / 2 / C) ** 2)
             t = b.coefficients([omega])
