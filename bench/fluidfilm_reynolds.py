@@ -87,7 +87,8 @@ def rigid_turn(k, eps, phi):
 
 
 def someya(quick):
-    print("2. Someya two-axial-groove bearing (grooves 7.5 deg at +-90 deg from the load, grid 96 x 16: edges on nodes)")
+    print("2. Someya two-axial-groove bearing (grooves 7.5 deg at +-90 deg from the load, grid 96 x 16: edges "
+          "on nodes)")
     print("   the printed table: max|K e_t - (0, 1/eps)| / max|K| (0 for a film that turns rigidly with the journal)")
     for ld, rows in SOMEYA.items():
         residual = [np.abs(np.reshape(r[3:7], (2, 2)) @ [-math.sin(math.radians(r[2])), math.cos(math.radians(r[2]))]
