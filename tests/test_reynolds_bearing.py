@@ -12,9 +12,15 @@
   the tolerance (bench/fluidfilm_reynolds.py).
 - ``L/D = 0.5`` and ``1``: Someya (ed.), *Journal-Bearing Databook*, Springer 1989, two-axial-groove bearing,
   tables on pp. 14 (L/D = 0.5) and 17 (L/D = 1), as transcribed in github.com/VictorLier/Tribology,
-  ``Assignment2/Someya.py``; the grooves (ambient pressure) at +-90 degrees from the load, 10 degrees wide (an
-  assumption: the transcription does not give the width). Eccentricity ratio and attitude angle at the printed
-  Sommerfeld number; the coefficients at a looser, documented tolerance (see docs/fluid-film-bearings.md).
+  ``Assignment2/Someya.py``; the grooves (ambient pressure) at +-90 degrees from the load, 7.5 degrees wide (an
+  assumption: the transcription does not give the width; 5 and 10 degrees change the agreement by up to 2 %).
+  The Databook's stiffness turns the whole film, grooves included, with a tangential journal displacement (its
+  tables obey ``K e_t = (W / e) e_perp`` to printed precision, which only a rotationally symmetric film does);
+  grooves fixed in the bore anchor the film, so this solver's ``k_yx`` differs from the Databook's by up to 60 %
+  at small eccentricity. Compared in the Databook's convention (the tangential column replaced by the rigid
+  turn, the radial column kept): eccentricity ratio and attitude angle at the printed Sommerfeld number,
+  stiffness and damping within 3 and 4 % of the largest printed coefficient (eps < 0.65), 6 and 8 %
+  (eps = 0.8); see docs/fluid-film-bearings.md.
 - Grid convergence: doubling the grid changes the results by less than stated tolerances.
 - A Jeffcott rotor on the tabulated LinearBearing has the eigenvalues of ``[[0, I], [-K/m, -C/m]]`` with the
   coefficients at the rotor speed.
@@ -114,6 +120,15 @@ def test_coefficients_equal_finite_differences_of_the_cavitated_film():
         plus = solve_film(grid, np.add(sol.position, e[:2]), e[2:]).force
         minus = solve_film(grid, np.subtract(sol.position, e[:2]), -e[2:]).force
         np.testing.assert_allclose((plus - minus) / (2 * h), J[:, col], atol=1e-5 * np.abs(J).max())
+    # a step that moves the cavitation boundary by several nodes: the held-boundary derivative still holds (to the
+    # second-order terms, 0.3 % here), the boundary's motion does not enter at first order
+    h = 3e-2
+    for col in range(2):
+        e = np.zeros(2)
+        e[col] = h
+        plus, minus = solve_film(grid, np.add(sol.position, e)), solve_film(grid, np.subtract(sol.position, e))
+        assert np.sum(plus.full_film != sol.full_film) + np.sum(minus.full_film != sol.full_film) >= 4
+        np.testing.assert_allclose((plus.force - minus.force) / (2 * h), J[:, col], atol=1e-2 * np.abs(J).max())
 
 
 def test_stiffness_maps_the_static_locus():
@@ -130,36 +145,83 @@ def test_stiffness_maps_the_static_locus():
 # -- (2) Someya's Journal-Bearing Databook, two-axial-groove bearing -------------------------------------------------
 # S, eps, phi (deg), kxx, kxy, kyx, kyy, bxx, bxy, byx, byy; x along the load, y at +90 deg in the direction of rotation
 SOMEYA = {
-    0.5: [(1.24, 0.300, 64.1, 2.07, 4.27, -2.56, 2.34, 8.50, 2.32, 2.32, 4.73),
+    0.5: [(4.43, 0.100, 80.4, 1.75, 10.3, -9.66, 2.70, 20.6, 2.08, 2.08, 11.4),
+          (2.07, 0.200, 71.6, 1.88, 5.63, -4.41, 2.56, 11.2, 2.22, 2.22, 6.43),
+          (1.24, 0.300, 64.1, 2.07, 4.27, -2.56, 2.34, 8.50, 2.32, 2.32, 4.73),
+          (0.798, 0.400, 57.5, 2.39, 3.75, -1.57, 2.17, 7.32, 2.24, 2.24, 3.50),
+          (0.517, 0.500, 51.1, 2.89, 3.57, -0.924, 2.03, 6.81, 2.10, 2.10, 2.60),
           (0.323, 0.600, 44.7, 3.65, 3.62, -0.427, 1.92, 6.81, 2.08, 2.08, 2.06),
-          (0.0926, 0.800, 31.2, 7.35, 4.46, 0.527, 1.78, 8.17, 2.05, 2.05, 1.24)],
-    1.0: [(0.424, 0.300, 61.0, 2.20, 3.96, -2.52, 2.31, 8.67, 1.99, 1.99, 3.50),
+          (0.187, 0.700, 38.2, 4.92, 3.88, 0.0235, 1.83, 7.32, 2.16, 2.16, 1.70),
+          (0.0926, 0.800, 31.2, 7.35, 4.46, 0.527, 1.78, 8.17, 2.05, 2.05, 1.24),
+          (0.0315, 0.900, 22.7, 13.8, 5.76, 1.24, 1.72, 10.6, 2.03, 2.03, 0.846)],
+    1.0: [(1.45, 0.100, 78.7, 2.04, 10.2, -9.62, 2.77, 20.8, 1.67, 1.67, 7.55),
+          (0.689, 0.200, 69.9, 1.99, 5.45, -4.38, 2.56, 11.3, 1.78, 1.78, 4.39),
+          (0.424, 0.300, 61.0, 2.20, 3.96, -2.52, 2.31, 8.67, 1.99, 1.99, 3.50),
+          (0.284, 0.400, 54.6, 2.37, 3.34, -1.60, 2.06, 7.57, 2.10, 2.09, 2.94),
+          (0.194, 0.500, 49.1, 2.67, 3.09, -1.00, 1.89, 6.99, 2.00, 2.00, 2.31),
           (0.131, 0.600, 43.8, 3.19, 3.06, -0.553, 1.77, 6.69, 1.82, 1.82, 1.74),
+          (0.0828, 0.700, 38.4, 4.16, 3.29, -0.0851, 1.75, 7.07, 2.00, 2.00, 1.59),
           (0.0469, 0.800, 32.1, 6.10, 3.82, 0.420, 1.74, 8.08, 2.15, 2.15, 1.34)],
-}
+}  # (the L/D = 1, eps = 0.9 row is left out: its printed attitude angle misses the identity below by 2 %)
 TO_SOMEYA = np.array([[0.0, -1.0], [1.0, 0.0]])  # (x_s, y_s) = (-y, x): load along -y here
+
+
+def tangential_direction(phi):
+    """Unit vector perpendicular to the line of centres (attitude ``phi`` from the load), Someya's frame."""
+    return np.array([-math.sin(phi), math.cos(phi)])
+
+
+def rigid_rotation_stiffness(k, eps, phi):
+    """``k`` (``K c / W``, Someya's frame) with its tangential column replaced by the rigid turn of the film.
+
+    Turning a rotationally symmetric film with the journal turns its force: ``K e_t = (0, 1 / eps)`` for the
+    dimensionless load ``(1, 0)``. The radial column ``K e_r`` is kept.
+    """
+    e_r, e_t = np.array([math.cos(phi), math.sin(phi)]), tangential_direction(phi)
+    return np.outer(k @ e_r, e_r) + np.outer([0.0, 1.0 / eps], e_t)
+
+
+@pytest.mark.parametrize("slenderness", [0.5, 1.0])
+def test_someya_stiffness_is_the_rigid_turn_of_the_film(slenderness):
+    """The Databook's tangential column is the turn of the whole film, grooves included, to printed precision."""
+    for s, eps, phi, *coefficients in SOMEYA[slenderness]:
+        k = np.reshape(coefficients[:4], (2, 2))
+        k_rigid = rigid_rotation_stiffness(k, eps, math.radians(phi))
+        assert np.abs(k - k_rigid).max() < 3e-3 * np.abs(k).max()
+
+
+def test_fixed_grooves_anchor_the_film_so_the_tangential_stiffness_is_not_the_rigid_turn():
+    """Grooves fixed in the bore: the film ends at them, a tangential journal displacement does not turn it."""
+    omega = speed_for_sommerfeld(1.45, 1.0)
+    table = bearing(1.0, grooves=((0.0, 10.0), (180.0, 10.0)), n_theta=72, n_z=8).coefficients([omega])
+    eps, phi = table.eccentricity_ratio[0], table.attitude_angle[0]
+    k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
+    along = k @ tangential_direction(phi)
+    assert abs(along[0]) > 0.05 / eps and along[1] < 0.6 / eps  # a rigid turn would give (0, 1 / eps)
 
 
 @pytest.mark.parametrize("slenderness", [0.5, 1.0])
 def test_someya_two_axial_groove_bearing(slenderness):
-    b = bearing(slenderness, grooves=((0.0, 10.0), (180.0, 10.0)), n_theta=96, n_z=12)
-    for s, eps, phi, *coefficients in SOMEYA[slenderness]:
+    """Statics, damping and (the Databook's rigid-turn convention) stiffness against the Databook."""
+    b = bearing(slenderness, grooves=((0.0, 7.5), (180.0, 7.5)), n_theta=96, n_z=12)  # groove edges on nodes
+    for s, eps, phi, *coefficients in (SOMEYA[slenderness][i] for i in (0, 2, 4, 7)):  # eps = 0.1, 0.3, 0.5, 0.8
         omega = speed_for_sommerfeld(s, slenderness)
         table = b.coefficients([omega])
-        assert abs(table.eccentricity_ratio[0] - eps) < 0.005
-        assert abs(math.degrees(table.attitude_angle[0]) - phi) < 1.0
+        assert abs(table.eccentricity_ratio[0] - eps) < 0.003
+        assert abs(math.degrees(table.attitude_angle[0]) - phi) < 1.5
         k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
         c = TO_SOMEYA @ table.damping[0] @ TO_SOMEYA.T * C * omega / W
+        k = rigid_rotation_stiffness(k, table.eccentricity_ratio[0], table.attitude_angle[0])
         k_s, c_s = np.reshape(coefficients[:4], (2, 2)), np.reshape(coefficients[4:], (2, 2))
-        assert np.all(np.sign(k) == np.sign(k_s))
-        tol_k = 0.25 if eps < 0.5 else 0.15  # of the largest coefficient; see the docs for the row-by-row figures
+        tol_k, tol_c = (0.03, 0.04) if eps < 0.65 else (0.06, 0.08)  # of the largest coefficient; see the docs
         assert np.abs(k - k_s).max() < tol_k * np.abs(k_s).max()
-        assert np.abs(c - c_s).max() < 0.08 * np.abs(c_s).max()
+        assert np.abs(c - c_s).max() < tol_c * np.abs(c_s).max()
         np.testing.assert_allclose(table.dimensionless()["kxy"], table.stiffness[0][0, 1] * C / W)
 
 
 def test_grooveless_bearing_is_rotationally_symmetric():
-    """A plain 360 deg film: the load turned by 30 deg turns the whole solution by 30 deg."""
+    """A plain 360 deg film: the load turned by 30 deg turns the whole solution by 30 deg, and the tangential
+    stiffness is the rigid turn of the force."""
     omega = speed_for_sommerfeld(0.2, 0.5)
     a = bearing(0.5).coefficients([omega])
     turn = math.radians(30.0)
@@ -169,6 +231,11 @@ def test_grooveless_bearing_is_rotationally_symmetric():
     np.testing.assert_allclose(t.eccentricity_ratio, a.eccentricity_ratio, rtol=1e-3)
     np.testing.assert_allclose(t.attitude_angle, a.attitude_angle, atol=2e-3)
     np.testing.assert_allclose(t.stiffness[0], Q @ a.stiffness[0] @ Q.T, atol=2e-2 * np.abs(a.stiffness).max())
+    # so a tangential displacement turns the force with the film: K e_t = (0, 1 / eps) in Someya's frame (W = 1)
+    k = TO_SOMEYA @ a.stiffness[0] @ TO_SOMEYA.T * C / W
+    eps, phi = a.eccentricity_ratio[0], a.attitude_angle[0]
+    # (to the discrete cavitation boundary's error: 1.6 % of the largest coefficient on this 72-node grid)
+    np.testing.assert_allclose(k @ tangential_direction(phi), [0.0, 1.0 / eps], atol=2.5e-2 * np.abs(k).max())
 
 
 # -- (3) grid convergence --------------------------------------------------------------------------------------------

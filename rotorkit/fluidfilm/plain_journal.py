@@ -138,7 +138,9 @@ class PlainJournalBearing:
         stored as the vector, a tuple of floats.
     grooves : tuple of (float, float)
         Axial supply grooves held at ambient pressure: ``(centre, width)`` in degrees, the centre measured
-        from ``+x`` about ``+z`` (fixed in the bore). Default none: a plain 360 degree film.
+        from ``+x`` about ``+z`` (fixed in the bore). Default none: a plain 360 degree film. The nodes within
+        ``width / 2`` of the centre are held at ambient pressure, so the groove the grid sees spans its outermost
+        nodes: choose ``n_theta`` so that the edges fall on nodes (``width`` a multiple of ``360 / n_theta``).
     n_theta, n_z : int
         Finite-difference nodes around the circumference (>= 24) and on the half length (>= 4).
 
