@@ -81,7 +81,7 @@ _TILT_STIFF = ("ktxx", "ktxy", "ktyx", "ktyy")
 _TILT_DAMP = ("ctxx", "ctxy", "ctyx", "ctyy")
 _TILT = _TILT_STIFF + _TILT_DAMP
 _MASS = ("mxx", "mxy", "myx", "myy")
-_DIRECT = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy", "mxx", "myy")
+DIRECT_COEFFICIENTS = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy", "mxx", "myy")
 _COEFFS = _STIFF + _DAMP + _TILT + _MASS
 _WHIRL = ("whirl_ratio", "whirl_frequency")
 _ENTRY = re.compile(r"([a-z]+?)(\d+)(?:_(\d+))?")
@@ -175,12 +175,12 @@ class LinearBearing(Element):
         "kxx": ("N/m", "nonnegative"), "kxy": ("N/m", None), "kyx": ("N/m", None), "kyy": ("N/m", "nonnegative"),
         "cxx": ("N*s/m", "nonnegative"), "cxy": ("N*s/m", None), "cyx": ("N*s/m", None),
         "cyy": ("N*s/m", "nonnegative"),
-        **{f: ("N*m/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_STIFF},
-        **{f: ("N*m*s/rad", "nonnegative" if f in _DIRECT else None) for f in _TILT_DAMP},
-        **{f: ("kg", "nonnegative" if f in _DIRECT else None) for f in _MASS},
+        **{f: ("N*m/rad", "nonnegative" if f in DIRECT_COEFFICIENTS else None) for f in _TILT_STIFF},
+        **{f: ("N*m*s/rad", "nonnegative" if f in DIRECT_COEFFICIENTS else None) for f in _TILT_DAMP},
+        **{f: ("kg", "nonnegative" if f in DIRECT_COEFFICIENTS else None) for f in _MASS},
     }
     #: direct coefficients checked >= 0 in a table (a Seal allows a negative direct stiffness)
-    _direct_checked = _DIRECT
+    _direct_checked = DIRECT_COEFFICIENTS
     #: how the required direct stiffness is described in messages
     _direct_rule = ", >= 0"
     _latex_names = {**{f: f"{f[0]}_{{{f[1:]}}}" for f in _STIFF + _DAMP + _MASS},

@@ -34,7 +34,7 @@ Source: D. W. Childs, *Turbomachinery Rotordynamics* (Wiley 1993), ch. 4-5
 import warnings
 from dataclasses import dataclass
 
-from .linear_bearing import _DIRECT, LinearBearing
+from .linear_bearing import DIRECT_COEFFICIENTS, LinearBearing
 
 __all__ = ["Seal", "StaticInstabilityWarning", "static_stiffness_margin"]
 
@@ -62,7 +62,7 @@ class Seal(LinearBearing):
     """
 
     _units = {**LinearBearing._units, "kxx": ("N/m", None), "kyy": ("N/m", None)}
-    _direct_checked = tuple(f for f in _DIRECT if f not in ("kxx", "kyy"))
+    _direct_checked = tuple(f for f in DIRECT_COEFFICIENTS if f not in ("kxx", "kyy"))
     _direct_rule = ", any sign"
 
     def _default_label(self):
@@ -107,7 +107,7 @@ def static_stiffness_margin(model, values=None, t=0.0):
     """
     import numpy as np
 
-    from ..analysis.linear_matrices import linear_matrices
+    from ..linear.linear_matrices import linear_matrices
 
     matrices = linear_matrices(model, t, values)
     if matrices is None:

@@ -506,9 +506,7 @@ def frozen_speed_model(model, t=0.0, speeds=None):
             value = _profile_speed(e, t) if value is None else float(value)
             e = dataclasses.replace(e, speed=value)
         elements.append(e)
-    from ..model import Model
-
-    return Model(elements, name=model.name)
+    return type(model)(elements, name=model.name)
 
 
 def station_positions(model):
