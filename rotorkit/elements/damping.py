@@ -26,6 +26,12 @@ The two coefficients are parameters of the rotor, ``<rotor>_damping_alpha``
 (1/s) and ``<rotor>_damping_beta`` (s): they stay symbols in the derived
 equations, so a sweep over them does not re-derive.
 
+The rotor's structure is every element of the rotor whose class lists
+``"mass"`` or ``"stiffness"`` in its ``structure_matrices``
+(:class:`~rotorkit.elements.base.Element`): beams both, disks and lumped
+masses their mass, shaft segments their stiffness. A new element type joins
+it by setting that class attribute; this module imports no element type.
+
 Source: Rayleigh, *The Theory of Sound* (1877), section 97; Friswell et al.,
 *Dynamics of Rotating Machines* (2010), section 2.5.5 (proportional damping)
 and section 5.7 (internal damping).
