@@ -362,7 +362,7 @@ class Model:
 
     def save(self, path, **options):
         """Write the model to ``path`` as a TOML model file (see :mod:`rotorkit.modelfile`); returns the path."""
-        from .modelfile import save_model
+        from .modelformat import save_model
 
         return save_model(self, path, **options)
 

@@ -192,10 +192,10 @@ def test_a_damaged_cache_folder_is_rebuilt_with_one_warning(fresh_cache, monkeyp
     run()
     entry = entry_of(fresh_cache)
     if damage == "entry-is-a-file":
-        cache._remove(entry)
+        cache.remove_path(entry)
         entry.write_text("not a folder")
     elif damage == "models-is-a-file":
-        cache._remove(fresh_cache / "models")
+        cache.remove_path(fresh_cache / "models")
         (fresh_cache / "models").write_text("not a folder")
     elif damage == "key-is-a-folder":
         (fresh_cache / "secret.key").unlink()

@@ -7,6 +7,7 @@ numba = pytest.importorskip("numba")
 
 from scipy.integrate import solve_ivp  # noqa: E402
 
+from rotorkit.engines import rk_common  # noqa: E402
 from rotorkit.engines import rk_numba as rk  # noqa: E402
 from rotorkit.errors import ParameterError  # noqa: E402
 
@@ -143,17 +144,17 @@ def test_duffing_matches_scipy(method, rtol):
 def test_coefficients_equal_scipy():
     rk_mod = pytest.importorskip("scipy.integrate._ivp.rk")
     coeffs = pytest.importorskip("scipy.integrate._ivp.dop853_coefficients")
-    np.testing.assert_array_equal(rk._RK45_A, rk_mod.RK45.A)
-    np.testing.assert_array_equal(rk._RK45_B, rk_mod.RK45.B)
-    np.testing.assert_array_equal(rk._RK45_C, rk_mod.RK45.C)
-    np.testing.assert_array_equal(rk._RK45_E, rk_mod.RK45.E)
-    np.testing.assert_array_equal(rk._RK45_P, rk_mod.RK45.P)
-    np.testing.assert_array_equal(rk._DOP853_A, coeffs.A)
-    np.testing.assert_array_equal(rk._DOP853_B, coeffs.B)
-    np.testing.assert_array_equal(rk._DOP853_C, coeffs.C)
-    np.testing.assert_array_equal(rk._DOP853_E3, coeffs.E3)
-    np.testing.assert_array_equal(rk._DOP853_E5, coeffs.E5)
-    np.testing.assert_array_equal(rk._DOP853_D, coeffs.D)
+    np.testing.assert_array_equal(rk_common.RK45_A, rk_mod.RK45.A)
+    np.testing.assert_array_equal(rk_common.RK45_B, rk_mod.RK45.B)
+    np.testing.assert_array_equal(rk_common.RK45_C, rk_mod.RK45.C)
+    np.testing.assert_array_equal(rk_common.RK45_E, rk_mod.RK45.E)
+    np.testing.assert_array_equal(rk_common.RK45_P, rk_mod.RK45.P)
+    np.testing.assert_array_equal(rk_common.DOP853_A, coeffs.A)
+    np.testing.assert_array_equal(rk_common.DOP853_B, coeffs.B)
+    np.testing.assert_array_equal(rk_common.DOP853_C, coeffs.C)
+    np.testing.assert_array_equal(rk_common.DOP853_E3, coeffs.E3)
+    np.testing.assert_array_equal(rk_common.DOP853_E5, coeffs.E5)
+    np.testing.assert_array_equal(rk_common.DOP853_D, coeffs.D)
 
 
 # ---------------------------------------------------------------------------

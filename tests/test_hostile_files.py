@@ -121,7 +121,7 @@ def test_a_cache_signing_key_that_is_a_fifo_is_replaced(tmp_path, monkeypatch):
     monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path / "cache"))
     cache.cache_dir().mkdir(mode=0o700, parents=True, exist_ok=True)
     os.mkfifo(cache.cache_dir() / "secret.key")
-    assert len(cache._secret()) == 32
+    assert len(cache.secret_key()) == 32
     assert (cache.cache_dir() / "secret.key").is_file()
 
 

@@ -18,9 +18,12 @@ Dynamic imports (``importlib.import_module`` with a computed name, as in the laz
 ``rotorkit/__init__.py``) are not edges: they name no module in the source, and they only run on first
 attribute access, after every module involved has finished importing.
 
-Cycles and private imports that remain outside the analysis packages are listed in :data:`KNOWN_CYCLES` and
-:data:`KNOWN_PRIVATE` with the reason each is left; the test fails on any other one, and also when a listed one
-is gone (so the lists only shrink).
+A private name (one starting with ``_``) is private to its module: no other module imports it
+(``from rotorkit.a import _helper``) or reaches it through an imported module (``from rotorkit import a`` then
+``a._helper``). A name two modules share is public in its home module (a module meant to be shared, such as
+``rotorkit.engines.rk_common``, exports public names), or it moves to a module both import.
+
+There are no exceptions: no cycle, no private import.
 """
 
 import ast
@@ -31,32 +34,6 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1] / "rotorkit"
-
-#: cycles left for now (each a set of modules in one strongly connected component), and why
-KNOWN_CYCLES = {
-    # Model.save -> modelfile.save_model and modelfile.loads_model -> Model: the fix (the file format and
-    # writer below model.py, the reader above it) splits modelfile.py, rewritten in parallel for issue 24 item 6
-    frozenset({"rotorkit.model", "rotorkit.modelfile"}),
-    # the elements' damping and base-motion helpers and the element classes they dispatch on (issue 24 scope
-    # is the analysis packages; the elements are being edited in parallel)
-    frozenset({"rotorkit.elements.base_motion", "rotorkit.elements.beam", "rotorkit.elements.damping",
-               "rotorkit.elements.masses", "rotorkit.elements.rotor", "rotorkit.elements.shaft"}),
-    # the structured code generator and the plain one share private helpers both ways
-    frozenset({"rotorkit.codegen.generate", "rotorkit.codegen.structured"}),
-}
-
-#: (importer, imported module) pairs still importing private names, and why
-KNOWN_PRIVATE = {
-    # the engines share one private toolbox (tableaus, argument checks, the step loop)
-    ("rotorkit.engines.rk_c", "rotorkit.engines.rk_common"),
-    ("rotorkit.engines.rk_numba", "rotorkit.engines.rk_common"),
-    # code generation helpers shared by the structured and reduced generators
-    ("rotorkit.codegen.structured", "rotorkit.codegen.generate"),
-    ("rotorkit.reduction.codegen", "rotorkit.codegen.generate"),
-    # the periodic package (edited in parallel this session)
-    ("rotorkit.periodic.switching", "rotorkit.periodic.stability"),
-}
-
 
 def _modules():
     out = {}
@@ -104,32 +81,51 @@ def _parents_outside(importer, target):
             if not (importer == p or importer.startswith(p + "."))]
 
 
+def module_imports(module, is_package, tree):
+    """``(targets, private)`` of one module's syntax tree: ``[(imported module, line)]`` and the private names it
+    takes from other modules, ``[(module, home, name, line)]`` (imported, or read as ``home_alias._name``)."""
+    targets, private, aliases = [], [], {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] == "rotorkit":
+                    targets.append((_existing(a.name), node.lineno))
+                    if a.asname:
+                        aliases[a.asname] = _existing(a.name)
+        elif isinstance(node, ast.ImportFrom):
+            base = _base(module, is_package, node)
+            if not base or base.split(".")[0] != "rotorkit":
+                continue
+            for alias in node.names:
+                sub = MOVED.get(f"{base}.{alias.name}", f"{base}.{alias.name}")
+                if sub in MODULES:
+                    targets.append((sub, node.lineno))
+                    aliases[alias.asname or alias.name] = sub
+                    continue
+                target = _existing(base)
+                targets.append((target, node.lineno))
+                if alias.name.startswith("_") and target != module:
+                    private.append((module, target, alias.name, node.lineno))
+    for node in ast.walk(tree):  # module._name, where module is an imported rotorkit module
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in aliases \
+                and node.attr.startswith("_") and not node.attr.startswith("__") \
+                and aliases[node.value.id] != module:
+            private.append((module, aliases[node.value.id], node.attr, node.lineno))
+    return targets, private
+
+
 def import_graph():
     """``(edges, private)``: module -> {imported module: line}, and the private names imported across modules."""
     edges = {m: {} for m in MODULES}
     private = []
     for module, (path, is_package) in MODULES.items():
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
-            targets = []
-            if isinstance(node, ast.Import):
-                targets = [_existing(a.name) for a in node.names if a.name.split(".")[0] == "rotorkit"]
-            elif isinstance(node, ast.ImportFrom):
-                base = _base(module, is_package, node)
-                if not base or base.split(".")[0] != "rotorkit":
-                    continue
-                for alias in node.names:
-                    sub = MOVED.get(f"{base}.{alias.name}", f"{base}.{alias.name}")
-                    if sub in MODULES:
-                        targets.append(sub)
-                        continue
-                    target = _existing(base)
-                    targets.append(target)
-                    if alias.name.startswith("_") and target != module:
-                        private.append((module, target, alias.name, node.lineno))
-            for target in targets:
-                for t in [*_parents_outside(module, target), target]:
-                    if t != module:
-                        edges[module].setdefault(t, node.lineno)
+        tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        targets, found = module_imports(module, is_package, tree)
+        private += found
+        for target, line in targets:
+            for t in [*_parents_outside(module, target), target]:
+                if t != module:
+                    edges[module].setdefault(t, line)
     return edges, private
 
 
@@ -210,20 +206,24 @@ def test_the_graph_sees_imports():
     assert one_cycle(cyclic, frozenset("abc")) == "a (line 1) -> b (line 2) -> c (line 3) -> a"
 
 
+def test_private_names_are_seen():
+    """The private-name check finds an imported private name and one read through an imported module."""
+    source = ("from rotorkit.engines import rk_common\nfrom rotorkit.codegen.emit import _x, hoist\n"
+              "from . import cache as c\n\ndef f():\n    return rk_common._y, c._z, c.__name__, hoist\n")
+    _, private = module_imports("rotorkit.codegen.demo", False, ast.parse(source))
+    assert sorted(private) == [("rotorkit.codegen.demo", "rotorkit.codegen.cache", "_z", 6),
+                               ("rotorkit.codegen.demo", "rotorkit.codegen.emit", "_x", 2),
+                               ("rotorkit.codegen.demo", "rotorkit.engines.rk_common", "_y", 6)]
+
+
 def test_no_import_cycles():
-    found = set(strongly_connected(EDGES))
-    new = [one_cycle(EDGES, c) for c in found - KNOWN_CYCLES]
-    assert not new, "import cycles:\n" + "\n".join(new)
-    gone = [sorted(c) for c in KNOWN_CYCLES - found]
-    assert not gone, f"cycles fixed: remove them from KNOWN_CYCLES: {gone}"
+    found = strongly_connected(EDGES)
+    assert not found, "import cycles:\n" + "\n".join(one_cycle(EDGES, c) for c in found)
 
 
 def test_no_private_imports_across_modules():
-    new = [p for p in PRIVATE if p[:2] not in KNOWN_PRIVATE]
-    assert not new, "private names imported across modules (make them public in their home, or move them):\n" + \
-        "\n".join(f"{a} line {line}: from {b} import {name}" for a, b, name, line in new)
-    gone = KNOWN_PRIVATE - {p[:2] for p in PRIVATE}
-    assert not gone, f"fixed: remove them from KNOWN_PRIVATE: {sorted(gone)}"
+    assert not PRIVATE, "private names used across modules (make them public in their home, or move them):\n" + \
+        "\n".join(f"{a} line {line}: {b}.{name}" for a, b, name, line in PRIVATE)
 
 
 def test_analysis_packages_are_clean():

@@ -440,11 +440,11 @@ def test_a_tiny_rtol_is_raised_with_a_warning_pointing_at_the_caller(c):
 def test_the_c_tables_are_rk_commons_to_the_last_bit():
     text = rk_c.source()
     assert "@GENERATED@" not in text
-    for name, table in {"RK45_A": rk_common._RK45_A_SQ, "RK45_B": rk_common._RK45_B, "RK45_C": rk_common._RK45_C_EXT,
-                        "RK45_E": rk_common._RK45_E, "RK45_PT": rk_common._RK45_PT, "DOP853_A": rk_common._DOP853_A,
-                        "DOP853_B": rk_common._DOP853_B, "DOP853_C": rk_common._DOP853_C,
-                        "DOP853_E3": rk_common._DOP853_E3, "DOP853_E5": rk_common._DOP853_E5,
-                        "DOP853_D": rk_common._DOP853_D}.items():
+    for name, table in {"RK45_A": rk_common.RK45_A_SQ, "RK45_B": rk_common.RK45_B, "RK45_C": rk_common.RK45_C_EXT,
+                        "RK45_E": rk_common.RK45_E, "RK45_PT": rk_common.RK45_PT, "DOP853_A": rk_common.DOP853_A,
+                        "DOP853_B": rk_common.DOP853_B, "DOP853_C": rk_common.DOP853_C,
+                        "DOP853_E3": rk_common.DOP853_E3, "DOP853_E5": rk_common.DOP853_E5,
+                        "DOP853_D": rk_common.DOP853_D}.items():
         found = re.search(rf"static const double {name}((?:\[\d+\])+) = (\{{.*?\}});", text, re.S)
         assert found, name
         assert [int(d) for d in re.findall(r"\d+", found.group(1))] == list(table.shape), name

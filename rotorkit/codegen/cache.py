@@ -64,7 +64,7 @@ class CacheWarning(UserWarning):
     """The model cache could not be used as is (it is rebuilt or bypassed)."""
 
 
-def _warn_once(message, topic=None):
+def warn_once(message, topic=None):
     """One warning per topic and process: a damaged cache must not flood a sweep's log."""
     topic = topic or message
     if topic not in _WARNED:
@@ -107,7 +107,7 @@ def _private_dir(path):
     return path
 
 
-def _remove(path):
+def remove_path(path):
     """Remove a file, link or folder tree (making our own unreadable folders readable); OSError if it cannot."""
     if os.path.islink(path) or not os.path.isdir(path):
         os.unlink(path)
@@ -130,11 +130,11 @@ def cache_dir():
     try:
         return _private_dir(base)
     except _NotPrivate:
-        _warn_once(f"rotorkit cache folder {base} is writable by others or not yours; "
-                   "using a private temporary folder instead", topic=("base", str(base)))
+        warn_once(f"rotorkit cache folder {base} is writable by others or not yours; "
+                  "using a private temporary folder instead", topic=("base", str(base)))
     except OSError as exc:
-        _warn_once(f"rotorkit cache folder {base} cannot be used ({exc}); "
-                   "using a private temporary folder instead", topic=("base", str(base)))
+        warn_once(f"rotorkit cache folder {base} cannot be used ({exc}); "
+                  "using a private temporary folder instead", topic=("base", str(base)))
     fallback = Path(tempfile.gettempdir()) / f"rotorkit-cache-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
     try:
         return _private_dir(fallback)
@@ -142,7 +142,7 @@ def cache_dir():
         return Path(tempfile.mkdtemp(prefix="rotorkit-cache-"))  # mkdtemp: 0o700, ours
 
 
-def _secret():
+def secret_key():
     """This user's random signing key (created on first use, mode 0600); OSError if it cannot be kept."""
     path = cache_dir() / "secret.key"
     try:
@@ -152,7 +152,7 @@ def _secret():
     except (OSError, ValueError):  # ValueError: not a regular file, or too long
         pass
     if os.path.lexists(path):
-        _remove(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
+        remove_path(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
     key = os.urandom(32)
     atomic_write_bytes(path, key, mode=0o600)
     return key
@@ -160,7 +160,7 @@ def _secret():
 
 def _digest(source, secret=None):
     """HMAC-SHA256 of the source under this user's key: only entries we wrote verify."""
-    return hmac.new(secret or _secret(), source.encode("utf-8"), hashlib.sha256).hexdigest()
+    return hmac.new(secret or secret_key(), source.encode("utf-8"), hashlib.sha256).hexdigest()
 
 
 def _file_digest(secret, name, data):
@@ -184,9 +184,9 @@ def _rebuilt_dir(folder):
     try:
         return _private_dir(folder)
     except (NotADirectoryError, _NotPrivate, PermissionError) as exc:
-        _warn_once(f"rotorkit cache folder {folder} cannot be trusted or used ({exc}); "
-                   "it is removed and rebuilt", topic=("folder", str(folder)))
-        _remove(folder)
+        warn_once(f"rotorkit cache folder {folder} cannot be trusted or used ({exc}); "
+                  "it is removed and rebuilt", topic=("folder", str(folder)))
+        remove_path(folder)
         return _private_dir(folder)
 
 
@@ -203,9 +203,9 @@ def load(key):
         if entry.is_symlink() or not entry.is_dir():
             raise NotADirectoryError(f"{entry} is not a folder")
         if not _private(entry):
-            _warn_once(f"rotorkit cache entry {entry} is writable by others or not yours; "
-                       "it is removed and rebuilt", topic=("entry", str(entry)))
-            _remove(entry)
+            warn_once(f"rotorkit cache entry {entry} is writable by others or not yours; "
+                      "it is removed and rebuilt", topic=("entry", str(entry)))
+            remove_path(entry)
             return None
         meta = json.loads(read_data(entry / "meta.json", what="cache metadata").decode("utf-8"))
         source = read_data(entry / "rhs.py", what="cache entry").decode("utf-8")
@@ -228,12 +228,12 @@ def _discard(key, error):
     try:
         entry = cache_dir() / "models" / key
         if os.path.lexists(entry):
-            _remove(entry)
+            remove_path(entry)
     except OSError:
         pass  # store() will find it unusable and build in memory
     if error is not None and not isinstance(error, (FileNotFoundError, json.JSONDecodeError, UnicodeDecodeError)):
-        _warn_once(f"rotorkit cache entry for model {key} was damaged ({error}); it is rebuilt",
-                   topic=("damaged", key))
+        warn_once(f"rotorkit cache entry for model {key} was damaged ({error}); it is rebuilt",
+                  topic=("damaged", key))
     return None
 
 
@@ -242,10 +242,10 @@ def store(key, source):
     try:
         entry = _models() / key
         if os.path.lexists(entry) and (entry.is_symlink() or not entry.is_dir() or not _private(entry)):
-            _remove(entry)
+            remove_path(entry)
         _private_dir(entry)
         _private_dir(entry / "__pycache__")  # before numba creates it with the umask
-        secret = _secret()
+        secret = secret_key()
         atomic_write_text(entry / "rhs.py", source, mode=0o600)
         meta = {"format": FORMAT, "key": key, "hmac": _digest(source, secret)}
         atomic_write_text(entry / "meta.json", json.dumps(meta), mode=0o600)
@@ -253,10 +253,10 @@ def store(key, source):
         from ..errors import DiskFullError
 
         if isinstance(exc, DiskFullError):  # names the folder that is full
-            _warn_once(f"rotorkit cache cannot store model {key}: {exc}, or set ROTORKIT_CACHE_DIR to a folder on "
+            warn_once(f"rotorkit cache cannot store model {key}: {exc}, or set ROTORKIT_CACHE_DIR to a folder on "
                        "a disk with space; the model is built in memory meanwhile", topic=("store", "disk full"))
             return _execute(key, source)
-        _warn_once(f"rotorkit cache cannot store model {key} ({exc}); it is built in memory "
+        warn_once(f"rotorkit cache cannot store model {key} ({exc}); it is built in memory "
                    "and compiled again in every process until the cache folder is usable "
                    "(see 'rotorkit cache info')", topic=("store", type(exc).__name__))
         return _execute(key, source)
@@ -270,7 +270,7 @@ def _verify_numba_files(entry, folder=None):
     """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature."""
     folder = entry / "__pycache__" if folder is None else folder
     _private_dir(folder)
-    secret = _secret()
+    secret = secret_key()
     try:
         signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
         signed = signed if isinstance(signed, dict) else {}
@@ -286,16 +286,16 @@ def _verify_numba_files(entry, folder=None):
                 data = None
             good = data is not None and hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, data))
         if not good:
-            _remove(path)
+            remove_path(path)
             removed.append(path.name)
     if removed:
-        _warn_once(f"rotorkit cache: removed {len(removed)} file(s) from {folder} that rotorkit did not sign "
-                   f"({', '.join(sorted(removed)[:3])}{', ...' if len(removed) > 3 else ''}: damaged, "
-                   "left by an interrupted run or planted); numba compiles again", topic=("numba", str(folder)))
+        warn_once(f"rotorkit cache: removed {len(removed)} file(s) from {folder} that rotorkit did not sign "
+                  f"({', '.join(sorted(removed)[:3])}{', ...' if len(removed) > 3 else ''}: damaged, "
+                  "left by an interrupted run or planted); numba compiles again", topic=("numba", str(folder)))
 
 
 def _sign_numba_files(entry, folder=None):
-    secret = _secret()
+    secret = secret_key()
     folder = entry / "__pycache__" if folder is None else folder
     signed = {}
     for path in folder.iterdir():
@@ -326,8 +326,8 @@ def _guard(dispatcher, entry, folder=None):
             _verify_numba_files(entry, folder)
             return load_overload(*args, **kwargs)
         except Exception as exc:  # noqa: BLE001 - a damaged cache file: compile instead
-            _warn_once(f"rotorkit cache: numba's cache in {path} could not be read ({type(exc).__name__}: {exc}); "
-                       "it is removed and numba compiles again", topic=("numba-load", str(path)))
+            warn_once(f"rotorkit cache: numba's cache in {path} could not be read ({type(exc).__name__}: {exc}); "
+                      "it is removed and numba compiles again", topic=("numba-load", str(path)))
             shutil.rmtree(path, ignore_errors=True)
             return None
 
@@ -337,8 +337,8 @@ def _guard(dispatcher, entry, folder=None):
             save_overload(*args, **kwargs)
             _sign_numba_files(entry, folder)
         except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
-            _warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
-                       f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
+            warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
+                      f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
             shutil.rmtree(path, ignore_errors=True)
 
     function_cache.load_overload = verified_load
@@ -364,8 +364,8 @@ def jit(module, name, **options):
             if _guard(dispatcher, entry):
                 return dispatcher
         except (OSError, RuntimeError) as exc:  # numba: "cannot cache function ...: no locator available"
-            _warn_once(f"rotorkit cache: numba's disk cache cannot be used for {entry} ({exc}); "
-                       "compiling in memory", topic=("numba-jit", str(entry)))
+            warn_once(f"rotorkit cache: numba's disk cache cannot be used for {entry} ({exc}); "
+                      "compiling in memory", topic=("numba-jit", str(entry)))
     return numba.njit(cache=False, **options)(function)
 
 
@@ -398,8 +398,8 @@ def jit_shared(function, name, signature, **options):
             dispatcher.disable_compile()  # as njit(signature) does: arguments convert to it, no specialisations
             return dispatcher
     except (OSError, RuntimeError) as exc:
-        _warn_once(f"rotorkit cache: numba's disk cache cannot be used for {name} ({exc}); compiling in memory",
-                   topic=("numba-shared", name))
+        warn_once(f"rotorkit cache: numba's disk cache cannot be used for {name} ({exc}); compiling in memory",
+                  topic=("numba-shared", name))
     dispatcher = numba.njit(cache=False, **options)(function)
     dispatcher.compile(signature.args)
     dispatcher.disable_compile()
@@ -431,10 +431,10 @@ def _lock_file(name, folder=None):
         # a FIFO, a folder, a link or a device in place of the lock file: a damaged cache, repaired once
         if not os.path.lexists(path):
             return None
-        _warn_once(f"rotorkit cache: the lock file {path} was not a regular file; it is replaced",
-                   topic=("lock", str(path)))
+        warn_once(f"rotorkit cache: the lock file {path} was not a regular file; it is replaced",
+                  topic=("lock", str(path)))
         try:
-            _remove(path)
+            remove_path(path)
         except OSError:
             return None
     return None
@@ -505,9 +505,9 @@ def _wait_for_lock(handle, name, path, wait=None):
             sys.stderr.flush()
         stopped_since = (stopped_since or now) if state == "stopped" else None
         if now - start > wait or (stopped_since is not None and now - stopped_since > STOPPED_LOCK_WAIT):
-            _warn_once(f"rotorkit: {('process ' + str(pid)) if pid else 'another process'} has held the lock "
-                       f"{path} too long ({'stopped' if state == 'stopped' else f'over {wait:g} s'}); "
-                       f"building {name} without it", topic=("lock-wait", str(path)))
+            warn_once(f"rotorkit: {('process ' + str(pid)) if pid else 'another process'} has held the lock "
+                      f"{path} too long ({'stopped' if state == 'stopped' else f'over {wait:g} s'}); "
+                      f"building {name} without it", topic=("lock-wait", str(path)))
             return False
         time.sleep(0.05)
 
@@ -599,5 +599,5 @@ def clear():
     models = base / "models"
 
     if os.path.lexists(models):
-        _remove(models)
+        remove_path(models)
     return count

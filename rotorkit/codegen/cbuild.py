@@ -99,7 +99,7 @@ def _compile(folder, name, source_bytes, secret):
         if os.path.lexists(target) and (target.is_symlink() or not target.is_file()):
             from . import cache
 
-            cache._remove(target)  # a folder or a FIFO in the library's place: a damaged cache, repaired
+            cache.remove_path(target)  # a folder or a FIFO in the library's place: a damaged cache, repaired
         os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
@@ -138,7 +138,7 @@ def library(folder, name, source):
         folder = Path(tempfile.mkdtemp(prefix="rotorkit-c-"))
     folder = Path(folder)
     try:
-        secret = cache._secret()
+        secret = cache.secret_key()
     except OSError:
         secret = os.urandom(32)  # no usable cache: build here, trust only what this process builds
     with cache.shared_lock(name, folder=folder):  # <folder>/<name>.lock: one builder at a time, others then load

@@ -248,7 +248,7 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
     -------
     GeneratedCode
     """
-    from .generate import GeneratedCode, _BlockFactor, _hoist, _name_power_bases, function_prelude, module_header
+    from .emit import BlockFactor, GeneratedCode, function_prelude, hoist, module_header, name_power_bases
 
     from ..errors import ParameterError
 
@@ -282,9 +282,9 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
     switch_raw = [g for _, g in eom.switches]
     table = {}
     exprs = [f_loc[i] for i in L] + extra + factors + list(df.values()) + list(dE.values()) + switch_raw
-    exprs = [_hoist(e, param_set, table) for e in exprs]
+    exprs = [hoist(e, param_set, table) for e in exprs]
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="none")
-    replacements, reduced = _name_power_bases(replacements, reduced)
+    replacements, reduced = name_power_bases(replacements, reduced)
     it = iter(reduced)
     floc_exprs = [next(it) for _ in L]
     extra_exprs = [next(it) for _ in extra]
@@ -381,7 +381,7 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
                     e = extra_names.get((a, b))
                     lines.append(f"    h{a}_{b} = p[{off_h + r * ns + c}]" + (f" + {e}" if e else ""))
                     mass_name[(a, b)] = f"h{a}_{b}"
-        factor = _BlockFactor(S, mass_name)
+        factor = BlockFactor(S, mass_name)
         return lines + factor.lines, factor
 
     def schur_solve(factor, rhs_names, target, tag, indent=""):

@@ -164,6 +164,9 @@ class Element:
     _time_event_fields: ClassVar[tuple[str, ...]] = ()
     #: LaTeX base letter per field, for rendering
     _latex_names: ClassVar[Mapping[str, str]] = {}
+    #: which matrices of its rotor's structure the element's terms make, of ``("mass", "stiffness")``: a rotor's
+    #: Rayleigh damping (:mod:`rotorkit.elements.damping`) is built from them
+    structure_matrices: ClassVar[tuple[str, ...]] = ()
 
     def __new__(cls, *args, **kwargs):
         """Unknown keywords (``LinearBearing(kzz=...)``) are an error naming the fields, before ``__init__``."""

@@ -222,6 +222,7 @@ class BeamSegment(Element):
     _latex_names = {"length": "L", "outer_diameter": "d_o", "inner_diameter": "d_i", "density": r"\rho",
                     "youngs_modulus": "E", "shear_modulus": "G", "shear_coefficient": r"\kappa", "axial_force": "P",
                     "torque": "T"}
+    structure_matrices = ("mass", "stiffness")
 
     def __post_init__(self):
         if self.material is not None:

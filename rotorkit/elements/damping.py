@@ -26,6 +26,12 @@ The two coefficients are parameters of the rotor, ``<rotor>_damping_alpha``
 (1/s) and ``<rotor>_damping_beta`` (s): they stay symbols in the derived
 equations, so a sweep over them does not re-derive.
 
+The rotor's structure is every element of the rotor whose class lists
+``"mass"`` or ``"stiffness"`` in its ``structure_matrices``
+(:class:`~rotorkit.elements.base.Element`): beams both, disks and lumped
+masses their mass, shaft segments their stiffness. A new element type joins
+it by setting that class attribute; this module imports no element type.
+
 Source: Rayleigh, *The Theory of Sound* (1877), section 97; Friswell et al.,
 *Dynamics of Rotating Machines* (2010), section 2.5.5 (proportional damping)
 and section 5.7 (internal damping).
@@ -134,15 +140,6 @@ class Rayleigh:
         return Rayleigh(**values)
 
 
-#: element types whose matrices make the rotor's structure: (mass from, stiffness from)
-def _structure_types():
-    from .beam import BeamSegment
-    from .masses import Disk, LumpedMass
-    from .shaft import ShaftSegment
-
-    return (BeamSegment, Disk, LumpedMass), (BeamSegment, ShaftSegment)
-
-
 def _hessian(expr, variables, zero):
     """``{(a, b): d^2 expr / da db}`` at rest (``zero`` substituted) over the ``variables`` it holds."""
     import sympy as sp
@@ -172,13 +169,13 @@ def rayleigh_terms(rotor, ctx):
 
     alpha, beta = ctx.p[PREFIX + "alpha"], ctx.p[PREFIX + "beta"]
     model = ctx.model
-    mass_types, stiffness_types = _structure_types()
     pairs = [ctx.coord(s, a) for s, a in model.coordinates]
     qs, us = [q for q, _ in pairs], [u for _, u in pairs]
     speed_of, rate_of = dict(zip(us, qs)), dict(zip(qs, us))
     forms = []
     for e in model.elements:
-        if not isinstance(e, mass_types + stiffness_types):
+        makes_mass, makes_stiffness = ("mass" in e.structure_matrices), ("stiffness" in e.structure_matrices)
+        if not (makes_mass or makes_stiffness):  # the rotor's structure: beams, disks, lumped masses, shafts
             continue
         if any(model.rotor_of(s) is not rotor for s in e.attached_stations()):
             continue
@@ -186,19 +183,19 @@ def rayleigh_terms(rotor, ctx):
         terms = e.contribute(bound)
         for form in terms.quadratic:
             C = None
-            if isinstance(e, mass_types) and form.mass is not None:
+            if makes_mass and form.mass is not None:
                 C = alpha * sp.Matrix(form.mass)
-            if isinstance(e, stiffness_types) and form.stiffness is not None:
+            if makes_stiffness and form.stiffness is not None:
                 C = beta * sp.Matrix(form.stiffness) if C is None else C + beta * sp.Matrix(form.stiffness)
             if C is not None:
                 forms.append(QuadraticForm(coordinates=form.coordinates, speeds=form.speeds, damping=C))
         zero = {s: 0 for s in qs + us}
         zero.update({sym: 0 for f, sym in bound.p.items() if f == "eccentricity"})
         entries = {}
-        if isinstance(e, mass_types):
+        if makes_mass:
             for (a, b), v in _hessian(terms.kinetic, us, zero).items():
                 entries[(a, b)] = entries.get((a, b), 0) + alpha * v
-        if isinstance(e, stiffness_types):
+        if makes_stiffness:
             rest = _hessian(terms.potential, qs, zero)
             for (a, b), v in rest.items():
                 ua, ub = rate_of[a], rate_of[b]

@@ -131,6 +131,7 @@ class Disk(Element):
     }
     _latex_names = {"mass": "m", "polar_inertia": "J", "radius": "R", "eccentricity": "e", "phase": r"\phi",
                     "diametral_inertia": "I_d"}
+    structure_matrices = ("mass",)
 
     @classmethod
     def from_geometry(cls, *, station, width, outer_diameter, material, inner_diameter=0.0, diametral=True,
@@ -283,6 +284,7 @@ class LumpedMass(Element):
 
     _units = {"mass": ("kg", "positive")}
     _latex_names = {"mass": "m"}
+    structure_matrices = ("mass",)
 
     def _validate(self):
         object.__setattr__(self, "station", check_station("LumpedMass", self.station, "station"))

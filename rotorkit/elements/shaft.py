@@ -98,6 +98,7 @@ class ShaftSegment(Element):
         "polar_area_moment": "I_p",
         "torsional_damping": "c_t",
     }
+    structure_matrices = ("stiffness",)
 
     def _validate(self):
         who = f"ShaftSegment {self.start!r}-{self.end!r}"

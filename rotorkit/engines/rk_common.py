@@ -34,6 +34,13 @@ __all__ = [
     "DIVERGED",
     "CoreSignatureError",
     "RKSolution",
+    # shared with the two loops (rk_numba compiles the numbers in, rk_c writes them into its C source)
+    "STATUS_RUNNING", "SAFETY", "MIN_FACTOR", "MAX_FACTOR", "EPS", "RK45_ID", "DOP853_ID", "METHOD_IDS",
+    "RK45_N_STAGES", "RK45_ERROR_ORDER", "RK45_C", "RK45_A", "RK45_B", "RK45_E", "RK45_P", "RK45_PT", "RK45_A_SQ",
+    "RK45_C_EXT", "DOP853_N_STAGES", "DOP853_N_STAGES_EXTENDED", "DOP853_ERROR_ORDER", "DOP853_INTERPOLATOR_POWER",
+    "DOP853_C", "DOP853_A", "DOP853_B", "DOP853_D", "DOP853_E3", "DOP853_E5",
+    "status_message", "loop_method_id", "as_float", "as_vector", "as_state", "as_t_eval", "as_rtol", "as_atol",
+    "as_first_step", "as_max_step", "as_max_steps", "Arguments", "check_arguments", "run_loop",
 ]
 
 # ---------------------------------------------------------------------------
@@ -47,27 +54,27 @@ STATUS_MAX_STEPS = -3
 STATUS_PAUSED = -4
 #: the C loop could not allocate its scratch memory (the numba loop raises MemoryError instead)
 STATUS_NO_MEMORY = -5
-_STATUS_RUNNING = 1
+STATUS_RUNNING = 1
 
 SAFETY = 0.9
 MIN_FACTOR = 0.2
 MAX_FACTOR = 10.0
 
-_RK45 = 0
-_DOP853 = 1
+RK45_ID = 0
+DOP853_ID = 1
 METHODS = ("RK45", "DOP853")
-_METHOD_IDS = {"RK45": _RK45, "DOP853": _DOP853}
+METHOD_IDS = {"RK45": RK45_ID, "DOP853": DOP853_ID}
 
-_EPS = np.finfo(float).eps
+EPS = np.finfo(float).eps
 
 # ---------------------------------------------------------------------------
 # Coefficients (data transcribed from scipy.integrate._ivp)
 # ---------------------------------------------------------------------------
 
-_RK45_N_STAGES = 6
-_RK45_ERROR_ORDER = 4
-_RK45_C = np.array([0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1], dtype=np.float64)
-_RK45_A = np.array([
+RK45_N_STAGES = 6
+RK45_ERROR_ORDER = 4
+RK45_C = np.array([0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1], dtype=np.float64)
+RK45_A = np.array([
     [0, 0, 0, 0, 0],
     [1 / 5, 0, 0, 0, 0],
     [3 / 40, 9 / 40, 0, 0, 0],
@@ -75,11 +82,11 @@ _RK45_A = np.array([
     [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0],
     [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656],
 ], dtype=np.float64)
-_RK45_B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
-                   dtype=np.float64)
-_RK45_E = np.array([-71 / 57600, 0, 71 / 16695, -71 / 1920, 17253 / 339200,
-                    -22 / 525, 1 / 40], dtype=np.float64)
-_RK45_P = np.array([
+RK45_B = np.array([35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84],
+                  dtype=np.float64)
+RK45_E = np.array([-71 / 57600, 0, 71 / 16695, -71 / 1920, 17253 / 339200,
+                   -22 / 525, 1 / 40], dtype=np.float64)
+RK45_P = np.array([
     [1, -8048581381 / 2820520608, 8663915743 / 2820520608,
      -12715105075 / 11282082432],
     [0, 0, 0, 0],
@@ -93,18 +100,18 @@ _RK45_P = np.array([
     [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423],
 ], dtype=np.float64)
 # The loop works row-wise on the dense-output weights: one row per power of x.
-_RK45_PT = np.ascontiguousarray(_RK45_P.T)
+RK45_PT = np.ascontiguousarray(RK45_P.T)
 # Pad A to a square (n_stages + 1) table so both methods share one layout.
-_RK45_A_SQ = np.zeros((_RK45_N_STAGES + 1, _RK45_N_STAGES + 1))
-_RK45_A_SQ[:_RK45_N_STAGES, :_RK45_N_STAGES - 1] = _RK45_A
-_RK45_C_EXT = np.append(_RK45_C, 1.0)
+RK45_A_SQ = np.zeros((RK45_N_STAGES + 1, RK45_N_STAGES + 1))
+RK45_A_SQ[:RK45_N_STAGES, :RK45_N_STAGES - 1] = RK45_A
+RK45_C_EXT = np.append(RK45_C, 1.0)
 
-_DOP853_N_STAGES = 12
-_DOP853_N_STAGES_EXTENDED = 16
-_DOP853_ERROR_ORDER = 7
-_DOP853_INTERPOLATOR_POWER = 7
+DOP853_N_STAGES = 12
+DOP853_N_STAGES_EXTENDED = 16
+DOP853_ERROR_ORDER = 7
+DOP853_INTERPOLATOR_POWER = 7
 
-_DOP853_C = np.array([
+DOP853_C = np.array([
     0.0,
     0.526001519587677318785587544488e-01,
     0.789002279381515978178381316732e-01,
@@ -336,12 +343,12 @@ def _dop853_error_weights(b):
         Weights (13 entries, the last one multiplies ``f(t + h, y_new)``) of
         the 3rd- and 5th-order error estimators.
     """
-    e3 = np.zeros(_DOP853_N_STAGES + 1)
+    e3 = np.zeros(DOP853_N_STAGES + 1)
     e3[:-1] = b
     e3[0] -= 0.244094488188976377952755905512
     e3[8] -= 0.733846688281611857341361741547
     e3[11] -= 0.220588235294117647058823529412e-1
-    e5 = np.zeros(_DOP853_N_STAGES + 1)
+    e5 = np.zeros(DOP853_N_STAGES + 1)
     e5[0] = 0.1312004499419488073250102996e-1
     e5[5] = -0.1225156446376204440720569753e+1
     e5[6] = -0.4957589496572501915214079952
@@ -353,12 +360,12 @@ def _dop853_error_weights(b):
     return e3, e5
 
 
-_DOP853_A = _matrix_from_rows(
-    (_DOP853_N_STAGES_EXTENDED, _DOP853_N_STAGES_EXTENDED), _DOP853_A_ROWS)
-_DOP853_B = _DOP853_A[_DOP853_N_STAGES, :_DOP853_N_STAGES].copy()
-_DOP853_E3, _DOP853_E5 = _dop853_error_weights(_DOP853_B)
-_DOP853_D = _matrix_from_rows(
-    (_DOP853_INTERPOLATOR_POWER - 3, _DOP853_N_STAGES_EXTENDED), _DOP853_D_ROWS)
+DOP853_A = _matrix_from_rows(
+    (DOP853_N_STAGES_EXTENDED, DOP853_N_STAGES_EXTENDED), _DOP853_A_ROWS)
+DOP853_B = DOP853_A[DOP853_N_STAGES, :DOP853_N_STAGES].copy()
+DOP853_E3, DOP853_E5 = _dop853_error_weights(DOP853_B)
+DOP853_D = _matrix_from_rows(
+    (DOP853_INTERPOLATOR_POWER - 3, DOP853_N_STAGES_EXTENDED), _DOP853_D_ROWS)
 
 #: a state beyond this magnitude has diverged (SI rotor states are many orders smaller)
 DIVERGED = 1e10
@@ -422,7 +429,7 @@ class RKSolution(NamedTuple):
 
 
 
-def _status_message(status, t_reached, max_steps):
+def status_message(status, t_reached, max_steps):
     """Human-readable text for a loop status."""
     if status == STATUS_SUCCESS:
         return "The solver successfully reached the end of the integration interval."
@@ -443,10 +450,10 @@ def _status_message(status, t_reached, max_steps):
     return f"Unknown status {status} at t={t_reached!r}."
 
 
-def _method_id(method):
+def loop_method_id(method):
     """Map a method name to its loop id (ParameterError if unknown)."""
     try:
-        return _METHOD_IDS[method]
+        return METHOD_IDS[method]
     except (KeyError, TypeError):
         raise ParameterError(
             f"method={method!r} is not supported; expected one of "
@@ -454,7 +461,7 @@ def _method_id(method):
 
 
 
-def _as_float(value, name):
+def as_float(value, name):
     """A finite float, else ParameterError naming `name`."""
     try:
         out = float(value)
@@ -465,7 +472,7 @@ def _as_float(value, name):
     return out
 
 
-def _as_vector(value, name, *, allow_empty):
+def as_vector(value, name, *, allow_empty):
     """A fresh C-contiguous float64 1-D copy of `value`."""
     try:
         out = np.array(value, dtype=np.float64, ndmin=1)
@@ -480,17 +487,17 @@ def _as_vector(value, name, *, allow_empty):
     return np.ascontiguousarray(out)
 
 
-def _as_state(y0):
+def as_state(y0):
     """Validated initial state."""
-    y0 = _as_vector(y0, "y0", allow_empty=False)
+    y0 = as_vector(y0, "y0", allow_empty=False)
     if not np.all(np.isfinite(y0)):
         raise ParameterError(f"y0 must be finite; got {y0!r}.")
     return y0
 
 
-def _as_t_eval(t_eval, t0, t1):
+def as_t_eval(t_eval, t0, t1):
     """Validated output times (sorted, inside [t0, t1])."""
-    t_eval = _as_vector(t_eval, "t_eval", allow_empty=True)
+    t_eval = as_vector(t_eval, "t_eval", allow_empty=True)
     if t_eval.size and (np.any(np.isnan(t_eval)) or t_eval[0] < t0
                         or t_eval[-1] > t1):
         raise ParameterError(
@@ -501,19 +508,19 @@ def _as_t_eval(t_eval, t0, t1):
     return t_eval
 
 
-def _as_rtol(rtol, stacklevel=3):
+def as_rtol(rtol, stacklevel=3):
     """Validated scalar rtol, raised to 100*eps like scipy (with a warning pointing `stacklevel` frames up)."""
-    rtol = _as_float(rtol, "rtol")
+    rtol = as_float(rtol, "rtol")
     if rtol < 0:
         raise ParameterError(f"rtol={rtol!r} must be non-negative.")
-    if rtol < 100 * _EPS:
-        warnings.warn(f"rtol={rtol!r} is too small; using rtol={100 * _EPS!r}.",
+    if rtol < 100 * EPS:
+        warnings.warn(f"rtol={rtol!r} is too small; using rtol={100 * EPS!r}.",
                       stacklevel=stacklevel)
-        rtol = 100 * _EPS
+        rtol = 100 * EPS
     return rtol
 
 
-def _as_atol(atol, n):
+def as_atol(atol, n):
     """Validated atol as a length-`n` vector."""
     try:
         arr = np.array(atol, dtype=np.float64)
@@ -531,11 +538,11 @@ def _as_atol(atol, n):
     return np.ascontiguousarray(arr)
 
 
-def _as_first_step(first_step, t0, t1):
+def as_first_step(first_step, t0, t1):
     """First step as a float; 0.0 means "select automatically"."""
     if first_step is None:
         return 0.0
-    first_step = _as_float(first_step, "first_step")
+    first_step = as_float(first_step, "first_step")
     if first_step <= 0:
         raise ParameterError(f"first_step={first_step!r} must be positive.")
     if first_step > t1 - t0:
@@ -545,7 +552,7 @@ def _as_first_step(first_step, t0, t1):
     return first_step
 
 
-def _as_max_step(max_step):
+def as_max_step(max_step):
     """Validated max_step (positive, may be inf)."""
     try:
         max_step = float(max_step)
@@ -556,7 +563,7 @@ def _as_max_step(max_step):
     return max_step
 
 
-def _as_max_steps(max_steps, name="max_steps"):
+def as_max_steps(max_steps, name="max_steps"):
     """Validated positive integer (max_steps, pause_after, sample_capacity), else ParameterError naming `name`."""
     if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps <= 0:
         raise ParameterError(f"{name}={max_steps!r} must be a positive integer.")
@@ -564,8 +571,8 @@ def _as_max_steps(max_steps, name="max_steps"):
 
 
 
-class _Arguments(NamedTuple):
-    """The checked arguments of ``integrate`` (see `_arguments`)."""
+class Arguments(NamedTuple):
+    """The checked arguments of ``integrate`` (see `check_arguments`)."""
 
     t0: float
     t1: float
@@ -581,35 +588,35 @@ class _Arguments(NamedTuple):
     columns: int
 
 
-def _arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after,
-               sample_capacity):
+def check_arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after,
+                    sample_capacity):
     """``integrate``'s arguments checked and converted (ParameterError naming the bad one).
 
     Called directly from an ``integrate`` (the rtol warning points at its
     caller), after it checked the method and the core.
     """
-    t0 = _as_float(t0, "t0")
-    t1 = _as_float(t1, "t1")
+    t0 = as_float(t0, "t0")
+    t1 = as_float(t1, "t1")
     if t1 < t0:
         raise ParameterError(
             f"t1={t1!r} must not be smaller than t0={t0!r} (only forward "
             f"integration is supported).")
-    y0 = _as_state(y0)
-    p = _as_vector([] if p is None else p, "p", allow_empty=True)
-    t_eval = _as_t_eval(t_eval, t0, t1)
-    rtol = _as_rtol(rtol, stacklevel=4)
-    atol = _as_atol(atol, y0.size)
-    first_step = _as_first_step(first_step, t0, t1)
-    max_step = _as_max_step(max_step)
-    max_steps = _as_max_steps(max_steps)
-    pause_after = 0 if pause_after is None else _as_max_steps(pause_after, "pause_after")
+    y0 = as_state(y0)
+    p = as_vector([] if p is None else p, "p", allow_empty=True)
+    t_eval = as_t_eval(t_eval, t0, t1)
+    rtol = as_rtol(rtol, stacklevel=4)
+    atol = as_atol(atol, y0.size)
+    first_step = as_first_step(first_step, t0, t1)
+    max_step = as_max_step(max_step)
+    max_steps = as_max_steps(max_steps)
+    pause_after = 0 if pause_after is None else as_max_steps(pause_after, "pause_after")
     columns = t_eval.size
     if pause_after and sample_capacity is not None:
-        columns = min(columns, _as_max_steps(sample_capacity, "sample_capacity"))
-    return _Arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after, columns)
+        columns = min(columns, as_max_steps(sample_capacity, "sample_capacity"))
+    return Arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after, columns)
 
 
-def _solve(loop, args):
+def run_loop(loop, args):
     """Run a compiled loop on checked arguments, enlarging a sample buffer its first step overflows.
 
     Parameters
@@ -618,7 +625,7 @@ def _solve(loop, args):
         ``loop(first_step, samples, y_reached) -> (status, n_samples_done,
         t_reached, nfev, n_accepted, n_rejected, h_next)``, the other
         arguments bound; it writes the samples and the last accepted state.
-    args : _Arguments
+    args : Arguments
 
     Returns
     -------
@@ -642,4 +649,4 @@ def _solve(loop, args):
         t=args.t_eval[:samples.shape[1]], y=samples, n_samples_done=int(n_done), status=int(status),
         t_reached=float(t_reached), y_reached=y_reached, nfev=int(nfev),
         n_accepted=int(n_acc), n_rejected=int(n_rej),
-        message=_status_message(status, t_reached, args.max_steps), h_next=float(h_next))
+        message=status_message(status, t_reached, args.max_steps), h_next=float(h_next))

@@ -85,57 +85,41 @@ from numba.core.dispatcher import Dispatcher
 # Statuses, controller constants, scipy's coefficients, the result type and the
 # argument checks are shared with the C loop and re-exported from here.
 from .rk_common import (  # noqa: F401  (re-exported; globals of the compiled loop)
-    _DOP853,
-    _DOP853_A,
-    _DOP853_B,
-    _DOP853_C,
-    _DOP853_D,
-    _DOP853_E3,
-    _DOP853_E5,
-    _DOP853_ERROR_ORDER,
-    _DOP853_INTERPOLATOR_POWER,
-    _DOP853_N_STAGES,
-    _DOP853_N_STAGES_EXTENDED,
-    _EPS,
-    _METHOD_IDS,
-    _RK45,
-    _RK45_A,
-    _RK45_A_SQ,
-    _RK45_B,
-    _RK45_C,
-    _RK45_C_EXT,
-    _RK45_E,
-    _RK45_ERROR_ORDER,
-    _RK45_N_STAGES,
-    _RK45_P,
-    _RK45_PT,
-    _STATUS_RUNNING,
     DIVERGED,
+    DOP853_A,
+    DOP853_B,
+    DOP853_C,
+    DOP853_D,
+    DOP853_E3,
+    DOP853_E5,
+    DOP853_ERROR_ORDER,
+    DOP853_INTERPOLATOR_POWER,
+    DOP853_N_STAGES,
+    DOP853_N_STAGES_EXTENDED,
     MAX_FACTOR,
     METHODS,
     MIN_FACTOR,
+    RK45_A_SQ,
+    RK45_B,
+    RK45_C_EXT,
+    RK45_E,
+    RK45_ERROR_ORDER,
+    RK45_ID,
+    RK45_N_STAGES,
+    RK45_PT,
     SAFETY,
     STATUS_MAX_STEPS,
-    STATUS_NO_MEMORY,
     STATUS_NON_FINITE,
+    STATUS_NO_MEMORY,
     STATUS_PAUSED,
+    STATUS_RUNNING,
     STATUS_STEP_TOO_SMALL,
     STATUS_SUCCESS,
     CoreSignatureError,
     RKSolution,
-    _arguments,
-    _as_atol,
-    _as_first_step,
-    _as_float,
-    _as_max_step,
-    _as_max_steps,
-    _as_rtol,
-    _as_state,
-    _as_t_eval,
-    _as_vector,
-    _method_id,
-    _solve,
-    _status_message,
+    check_arguments,
+    loop_method_id,
+    run_loop,
 )
 
 __all__ = [
@@ -382,8 +366,8 @@ def _dop853_dense_prepare(core, t_old, h, y_old, y_new, p, a, c, d, k, f,
         False when an extra stage is not finite.
     """
     n = y_old.size
-    n_base = _DOP853_N_STAGES + 1
-    for s in range(n_base, _DOP853_N_STAGES_EXTENDED):
+    n_base = DOP853_N_STAGES + 1
+    for s in range(n_base, DOP853_N_STAGES_EXTENDED):
         _weighted_sum(k, a[s], s, work)
         for i in range(n):
             y_stage[i] = y_old[i] + work[i] * h
@@ -391,7 +375,7 @@ def _dop853_dense_prepare(core, t_old, h, y_old, y_new, p, a, c, d, k, f,
         if not _all_finite(k[s]):
             return s - n_base + 1, False
     f_old = k[0]
-    f_new = k[_DOP853_N_STAGES]
+    f_new = k[DOP853_N_STAGES]
     for i in range(n):
         delta = y_new[i] - y_old[i]
         f[0, i] = delta
@@ -401,7 +385,7 @@ def _dop853_dense_prepare(core, t_old, h, y_old, y_new, p, a, c, d, k, f,
         _weighted_sum(k, d[r], d.shape[1], work)
         for i in range(n):
             f[3 + r, i] = h * work[i]
-    return _DOP853_N_STAGES_EXTENDED - n_base, True
+    return DOP853_N_STAGES_EXTENDED - n_base, True
 
 
 @njit(**_JIT)
@@ -467,24 +451,24 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     """
     n = y0.size
     n_eval = t_eval.size
-    if method == _RK45:
-        a = _RK45_A_SQ
-        b = _RK45_B
-        c = _RK45_C_EXT
-        n_stages = _RK45_N_STAGES
-        n_rows = _RK45_N_STAGES + 1
-        error_order = _RK45_ERROR_ORDER
+    if method == RK45_ID:
+        a = RK45_A_SQ
+        b = RK45_B
+        c = RK45_C_EXT
+        n_stages = RK45_N_STAGES
+        n_rows = RK45_N_STAGES + 1
+        error_order = RK45_ERROR_ORDER
     else:
-        a = _DOP853_A
-        b = _DOP853_B
-        c = _DOP853_C
-        n_stages = _DOP853_N_STAGES
-        n_rows = _DOP853_N_STAGES_EXTENDED
-        error_order = _DOP853_ERROR_ORDER
+        a = DOP853_A
+        b = DOP853_B
+        c = DOP853_C
+        n_stages = DOP853_N_STAGES
+        n_rows = DOP853_N_STAGES_EXTENDED
+        error_order = DOP853_ERROR_ORDER
     error_exponent = -1.0 / (error_order + 1)
 
     k = np.empty((n_rows, n))  # stages; row n_stages is f(t_new, y_new)
-    dense = np.empty((_DOP853_INTERPOLATOR_POWER, n))
+    dense = np.empty((DOP853_INTERPOLATOR_POWER, n))
     y = y0.copy()
     y_new = np.empty(n)
     f = np.empty(n)
@@ -503,19 +487,19 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
     t = t0
     n_accepted = 0
     n_rejected = 0
-    status = _STATUS_RUNNING
+    status = STATUS_RUNNING
     core(t, y, p, f)
     nfev = 1
     if not _all_finite(f):
         status = STATUS_NON_FINITE
     h_abs = first_step
-    if status == _STATUS_RUNNING and first_step <= 0.0:
+    if status == STATUS_RUNNING and first_step <= 0.0:
         h_abs = _select_initial_step(core, t0, y0, f, p, t1, max_step,
                                      error_order, rtol, atol, y_stage, work,
                                      scale)
         nfev += 1
 
-    while status == _STATUS_RUNNING:
+    while status == STATUS_RUNNING:
         if t >= t1:
             status = STATUS_SUCCESS
             break
@@ -567,27 +551,27 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
             non_finite = False
 
             _error_scale(y, y_new, rtol, atol, scale)
-            if method == _RK45:
-                error_norm = _rk45_error_norm(k, _RK45_E, h, scale, work)
+            if method == RK45_ID:
+                error_norm = _rk45_error_norm(k, RK45_E, h, scale, work)
             else:
-                error_norm = _dop853_error_norm(k, _DOP853_E5, _DOP853_E3, h,
+                error_norm = _dop853_error_norm(k, DOP853_E5, DOP853_E3, h,
                                                 scale, work, work2)
             h_abs *= _step_factor(error_norm, error_exponent, rejected)
             if error_norm < 1.0:
                 break
             rejected = True
             n_rejected += 1
-        if status != _STATUS_RUNNING:
+        if status != STATUS_RUNNING:
             break
         n_accepted += 1
 
         # --- samples inside (t, t_new] from the step's dense output -----
         if i_eval < n_eval and t_eval[i_eval] <= t_new:
-            if method == _RK45:
-                _rk45_dense_prepare(k, _RK45_PT, dense)
+            if method == RK45_ID:
+                _rk45_dense_prepare(k, RK45_PT, dense)
             else:
                 n_evals, ok = _dop853_dense_prepare(
-                    core, t, h, y, y_new, p, a, c, _DOP853_D, k, dense,
+                    core, t, h, y, y_new, p, a, c, DOP853_D, k, dense,
                     y_stage, work)
                 nfev += n_evals
                 if not ok:  # keep t, y at the last step fully sampled
@@ -597,7 +581,7 @@ def _rk_loop(core, method, t0, t1, y0, p, t_eval, rtol, atol, first_step,
                 t_sample = t_eval[i_eval]
                 if t_sample == t_new:
                     _copy_column(y_new, samples, i_eval)
-                elif method == _RK45:
+                elif method == RK45_ID:
                     _rk45_dense_eval(dense, y, t, h, t_sample, samples, i_eval)
                 else:
                     _dop853_dense_eval(dense, y, t, h, t_sample, samples,
@@ -839,10 +823,10 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
     >>> sol.status, bool(abs(sol.y[0, -1] - np.exp(-2.0)) < 1e-7)
     (0, True)
     """
-    method_id = _method_id(method)
+    method_id = loop_method_id(method)
     _check_core(core)
-    args = _arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after,
-                      sample_capacity)
+    args = check_arguments(t0, t1, y0, p, t_eval, rtol, atol, first_step, max_step, max_steps, pause_after,
+                           sample_capacity)
     if _compiled_loop.cache_info().currsize:
         loop = _compiled_loop()
     else:
@@ -862,4 +846,4 @@ def integrate(core, t0, t1, y0, p, t_eval, *, method="DOP853", rtol=1e-6,
             _raise_if_bad_signature(core)
             raise  # the core compiled fine: the error is its own, keep it as is
 
-    return _solve(run, args)
+    return run_loop(run, args)

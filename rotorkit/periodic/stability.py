@@ -37,7 +37,7 @@ __all__ = ["monodromy_multipliers", "hill_multipliers", "is_stable", "classify_c
 STABILITY_TOL = 1e-6
 
 
-def _orbit_state(hb, z, frame):
+def orbit_state(hb, z, frame):
     """``y(t)`` of the harmonic-balance solution, a function of the time (s)."""
     n, H = hb.n, hb.harmonics
     Z = np.reshape(z, (-1, n))
@@ -65,7 +65,7 @@ def monodromy_multipliers(hb, z, frame, *, rtol=1e-10, atol=1e-12):
     from scipy.integrate import solve_ivp
 
     m = 2 * hb.n
-    state = _orbit_state(hb, z, frame)
+    state = orbit_state(hb, z, frame)
 
     def variational(t, phi):
         J = frame.jacobian_at(t, state(t)[None, :])[0]

@@ -40,14 +40,14 @@ def critical_direction(hb, z, frame):
     """
     from scipy.integrate import solve_ivp
 
-    from .stability import _orbit_state, monodromy_multipliers
+    from .stability import orbit_state, monodromy_multipliers
 
     _, Phi = monodromy_multipliers(hb, z, frame)
     values, vectors = np.linalg.eig(Phi)
     k = int(np.argmin(np.abs(values + 1.0)))
     v = np.real(vectors[:, k] * np.exp(-1j * np.angle(vectors[np.argmax(np.abs(vectors[:, k])), k])))
     v /= np.linalg.norm(v)
-    state = _orbit_state(hb, z, frame)
+    state = orbit_state(hb, z, frame)
 
     def variational(t, dy):
         return frame.jacobian_at(t, state(t)[None, :])[0] @ dy

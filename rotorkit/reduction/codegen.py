@@ -57,7 +57,7 @@ def natural_boundary(split, eom):
 
 def generate_reduced(eom, structure_key=""):
     """Source of the reduced module of ``eom`` (see the module docstring); ``GeneratedCode``-like text."""
-    from ..codegen.generate import _hoist, _name_power_bases, module_header
+    from ..codegen.emit import hoist, module_header, name_power_bases
 
     split = Split(eom)
     if split.S:
@@ -81,9 +81,9 @@ def generate_reduced(eom, structure_key=""):
         for st in sorted(e.free_symbols & set(states), key=states.index):
             df[(k, states.index(st))] = sp.diff(e, st)
     table = {}
-    exprs = [_hoist(e, param_set, table) for e in f_loc + factors + switch_raw + list(df.values())]
+    exprs = [hoist(e, param_set, table) for e in f_loc + factors + switch_raw + list(df.values())]
     replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("_c"), order="none")
-    replacements, reduced = _name_power_bases(replacements, reduced)
+    replacements, reduced = name_power_bases(replacements, reduced)
     floc_exprs = reduced[: len(rows)]
     factor_exprs = reduced[len(rows): len(rows) + len(factors)]
     switch_exprs = reduced[len(rows) + len(factors): len(rows) + len(factors) + len(switch_raw)]
