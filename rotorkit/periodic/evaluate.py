@@ -6,8 +6,10 @@ and continuation at a new parameter value every Newton iteration. With the
 ``switches`` and ``prepare``, :func:`rotorkit.system.jacobian_module`) is
 called through its C function addresses, and a new parameter value only
 re-runs its ``prepare`` (microseconds, no new :class:`~rotorkit.System`).
-Other back ends go through :meth:`rotorkit.System.with_parameters` and the
-system's own methods.
+With the ``numba`` back end the same module's jitted functions are called
+by a jitted loop over the rows (compiled once per process and module), and a
+new parameter value re-runs ``prepare`` likewise. The ``python`` back end goes
+through :meth:`rotorkit.System.with_parameters` and the system's own methods.
 """
 
 from __future__ import annotations
@@ -52,13 +54,38 @@ def _batch_function():
     return _BATCH[0][1] if _BATCH[0] else None
 
 
-def _c_loop(function, address, prepared, times, Y, width):
+def _rows(times, Y):
     Y = np.ascontiguousarray(Y, dtype=float)
     rows = Y.shape[0]
     if np.ndim(times) == 0:
         times = np.full(rows, float(times))
-    else:
+    elif not (isinstance(times, np.ndarray) and times.shape == (rows,) and times.dtype == float
+              and times.flags.c_contiguous):
         times = np.ascontiguousarray(np.broadcast_to(times, (rows,)), dtype=float)
+    return times, Y
+
+
+_NUMBA_LOOPS = {}
+
+
+def _numba_loop(function):
+    """A jitted ``loop(times, Y, p, out)`` calling the jitted ``function(t, y, p, out_row)`` per row."""
+    found = _NUMBA_LOOPS.get(function)
+    if found is None:
+        import numba
+
+        @numba.njit(cache=False)
+        def loop(times, Y, p, out):
+            for j in range(Y.shape[0]):
+                function(times[j], Y[j], p, out[j])
+
+        found = _NUMBA_LOOPS[function] = loop
+    return found
+
+
+def _c_loop(function, address, prepared, times, Y, width):
+    times, Y = _rows(times, Y)
+    rows = Y.shape[0]
     batch = _batch_function()
     if batch is not None:
         out = np.empty((rows, width))  # the C loop zeroes each row first
@@ -86,6 +113,14 @@ class Evaluator:
         self.n_states = system.n_states
         self.n_switches = system.n_switches
         self.fast = system.backend == "c"
+        self.jitted = system.backend == "numba"
+        if self.jitted:
+            from ..system import _numba_function, jacobian_module
+
+            self._module = module = jacobian_module(system.model, getattr(system._module, "CODEGEN", "unrolled"))
+            self._loops = {name: _numba_loop(_numba_function(module, name)) for name in ("rhs", "jac", "switches")
+                           if hasattr(module, name)}
+            self._window = np.array(system.prepared_parameters[-2:], dtype=float)
         if self.fast:
             from ..codegen.cmodel import c_functions
             from ..system import jacobian_module
@@ -98,7 +133,7 @@ class Evaluator:
 
     def point(self, values):
         """An opaque handle of the equations at the system's parameters updated with ``values`` (SI)."""
-        if not self.fast:
+        if not (self.fast or self.jitted):
             return self.system.with_parameters(**values) if values else self.system
         merged = self.system.parameters
         merged.update(values)
@@ -110,8 +145,16 @@ class Evaluator:
         prepared[-2:] = self._window
         return prepared
 
+    def _jitted(self, name, point, times, Y, *shape):
+        times, Y = _rows(times, Y)
+        out = np.zeros((Y.shape[0],) + shape)
+        self._loops[name](times, Y, point, out)
+        return out
+
     def rhs(self, point, times, Y):
         """``dy/dt`` at each row of ``Y`` (m, 2n) and time in ``times`` (s): shape (m, 2n)."""
+        if self.jitted:
+            return self._jitted("rhs", point, times, Y, self.n_states)
         if self.fast:
             return _c_loop(self._functions["rhs"], self._addresses["rhs"], point, times, Y, self.n_states)
         times = np.broadcast_to(times, (len(Y),))
@@ -120,6 +163,8 @@ class Evaluator:
     def jacobian(self, point, times, Y):
         """The analytic ``d(dy/dt)/dy`` at each row: shape (m, 2n, 2n)."""
         m = self.n_states
+        if self.jitted:
+            return self._jitted("jac", point, times, Y, m, m)
         if self.fast:
             return _c_loop(self._functions["jac"], self._addresses["jac"], point, times, Y, m * m).reshape(-1, m, m)
         times = np.broadcast_to(times, (len(Y),))
@@ -129,6 +174,8 @@ class Evaluator:
         """The contact switch functions at each row: shape (m, n_switches)."""
         if not self.n_switches:
             return np.zeros((len(Y), 0))
+        if self.jitted:
+            return self._jitted("switches", point, times, Y, self.n_switches)
         if self.fast:
             return _c_loop(self._functions["switches"], self._addresses["switches"], point, times, Y,
                            self.n_switches)
