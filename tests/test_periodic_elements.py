@@ -21,7 +21,7 @@ def inner_rotor():
     ]
 
 
-@pytest.mark.parametrize("speed", [240.0, 260.0, 280.0])
+@pytest.mark.parametrize("speed", [240.0, 260.0, 280.0, 300.0])  # 300: Newton from zero fails, the homotopy start does not
 def test_intershaft_rub_on_a_still_outer_rotor_is_a_rub_stator(speed):
     stator = rk.Model(inner_rotor() + [rk.RubStator(station=1, clearance=CLEARANCE, contact_stiffness=KR,
                                                     friction_coefficient=MU, contact_radius=RADIUS)], name="pst")

@@ -144,9 +144,8 @@ class CondensedHarmonicBalance(HarmonicBalance):
         force = self.P @ (g @ Mr.T) - frame.forcing[:, c]
         if not jacobian:
             return force.ravel(), None
-        A = frame.jacobians(Y)
         cs = np.concatenate([c, n + c])
-        Fk = Mr @ (A[:, n + rows][:, :, cs] - frame.A[np.ix_(rows, cs)])  # (N, nc, 2 nc)
+        Fk = Mr @ (frame.jacobian_block(Y, n + rows, cs) - frame.A[np.ix_(rows, cs)])  # (N, nc, 2 nc)
         nc = len(c)
         dN = self._project(np.ascontiguousarray(Fk[:, :, :nc]), np.ascontiguousarray(Fk[:, :, nc:]), frame.omega)
         return force.ravel(), dN

@@ -33,6 +33,18 @@ void rotorkit_batch(model_function f, long rows, const double *times, const doub
         f(times[j], Y + j * ny, p, out + j * nout);
     }
 }
+
+/* rhs and Jacobian at the same rows in one call */
+void rotorkit_batch_both(model_function f, model_function g, long rows, const double *times, const double *Y,
+                         long ny, const double *p, double *out, double *jac) {
+    long nj = ny * ny;
+    for (long j = 0; j < rows; ++j) {
+        for (long k = 0; k < ny; ++k) out[j * ny + k] = 0.0;
+        for (long k = 0; k < nj; ++k) jac[j * nj + k] = 0.0;
+        f(times[j], Y + j * ny, p, out + j * ny);
+        g(times[j], Y + j * ny, p, jac + j * nj);
+    }
+}
 """
 _BATCH = []
 
@@ -43,15 +55,25 @@ def _batch_function():
         try:
             from ..codegen import cache, cbuild
 
-            library = cbuild.library(cache.shared_dir("periodic_batch"), "periodic_batch", _BATCH_SOURCE)
+            library = cbuild.library(cache.shared_dir("periodic_batch2"), "periodic_batch2", _BATCH_SOURCE)
             function = library.rotorkit_batch
             function.argtypes = (ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long,
                                  ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long)
             function.restype = None
-            _BATCH.append((library, function))
+            both = library.rotorkit_batch_both
+            both.argtypes = (ctypes.c_void_p, ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p,
+                             ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p)
+            both.restype = None
+            _BATCH.append((library, function, both))
         except Exception:  # noqa: BLE001 - no compiler or no cache: the Python loop does the same
             _BATCH.append(None)
     return _BATCH[0][1] if _BATCH[0] else None
+
+
+def _both_function():
+    """The C row loop computing rhs and Jacobian together, or None."""
+    _batch_function()
+    return _BATCH[0][2] if _BATCH[0] else None
 
 
 def _rows(times, Y):
@@ -80,6 +102,27 @@ def _numba_loop(function):
                 function(times[j], Y[j], p, out[j])
 
         found = _NUMBA_LOOPS[function] = loop
+    return found
+
+
+def _numba_block_loop(function):
+    """A jitted ``loop(times, Y, p, rows, cols, work, out)``: ``out[j] = J_j[rows][:, cols]`` for the jitted
+    Jacobian ``function`` (one (m, m) work matrix, zeroed per row: the generated ``jac`` adds to it)."""
+    key = ("block", function)
+    found = _NUMBA_LOOPS.get(key)
+    if found is None:
+        import numba
+
+        @numba.njit(cache=False)
+        def loop(times, Y, p, rows, cols, work, out):
+            for j in range(Y.shape[0]):
+                work[:, :] = 0.0
+                function(times[j], Y[j], p, work)
+                for a in range(rows.shape[0]):
+                    for b in range(cols.shape[0]):
+                        out[j, a, b] = work[rows[a], cols[b]]
+
+        found = _NUMBA_LOOPS[key] = loop
     return found
 
 
@@ -120,6 +163,7 @@ class Evaluator:
             self._module = module = jacobian_module(system.model, getattr(system._module, "CODEGEN", "unrolled"))
             self._loops = {name: _numba_loop(_numba_function(module, name)) for name in ("rhs", "jac", "switches")
                            if hasattr(module, name)}
+            self._block = _numba_block_loop(_numba_function(module, "jac"))
             self._window = np.array(system.prepared_parameters[-2:], dtype=float)
         if self.fast:
             from ..codegen.cmodel import c_functions
@@ -169,6 +213,29 @@ class Evaluator:
             return _c_loop(self._functions["jac"], self._addresses["jac"], point, times, Y, m * m).reshape(-1, m, m)
         times = np.broadcast_to(times, (len(Y),))
         return np.array([point.jacobian(t, y) for t, y in zip(times.tolist(), Y)])
+
+    def rhs_and_jacobian(self, point, times, Y):
+        """:meth:`rhs` and :meth:`jacobian` at the same rows (one C call with the ``c`` back end)."""
+        both = _both_function() if self.fast else None
+        if both is None:
+            return self.rhs(point, times, Y), self.jacobian(point, times, Y)
+        times, Y = _rows(times, Y)
+        rows, m = Y.shape
+        out, jac = np.empty((rows, m)), np.empty((rows, m, m))
+        both(self._addresses["rhs"], self._addresses["jac"], rows, times.ctypes.data, Y.ctypes.data, m,
+             point.ctypes.data, out.ctypes.data, jac.ctypes.data)
+        return out, jac
+
+    def jacobian_block(self, point, times, Y, rows, cols):
+        """The rows ``rows`` and columns ``cols`` of the analytic Jacobian at each row: (m, len(rows), len(cols))."""
+        rows, cols = np.asarray(rows, dtype=np.int64), np.asarray(cols, dtype=np.int64)
+        if self.jitted:
+            times, Y = _rows(times, Y)
+            m = self.n_states
+            out = np.empty((Y.shape[0], len(rows), len(cols)))
+            self._block(times, Y, point, rows, cols, np.zeros((m, m)), out)
+            return out
+        return self.jacobian(point, times, Y)[:, rows][:, :, cols]
 
     def switches(self, point, times, Y):
         """The contact switch functions at each row: shape (m, n_switches)."""

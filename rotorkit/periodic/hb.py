@@ -32,7 +32,8 @@ import numpy as np
 from ..errors import ParameterError
 from .errors import ConvergenceError, NoOscillatingInput
 
-__all__ = ["HarmonicBalance", "Frame", "fourier_basis", "default_samples", "DEFAULT_TOLERANCE", "newton"]
+__all__ = ["HarmonicBalance", "Frame", "fourier_basis", "default_samples", "DEFAULT_TOLERANCE", "newton",
+           "newton_from_linear"]
 
 #: Newton stops when max |R| (N) <= DEFAULT_TOLERANCE * scale, scale the largest oscillating force amplitude at rest
 DEFAULT_TOLERANCE = 1e-10
@@ -163,6 +164,14 @@ class Frame:
         """The analytic Jacobian of ``rhs`` at the AFT instants for the states ``Y`` (N, 2n): (N, 2n, 2n)."""
         return self.evaluator.jacobian(self.point, self.times, Y)
 
+    def accelerations_and_jacobians(self, Y):
+        """:meth:`accelerations` and :meth:`jacobians` of the same states together."""
+        return self.evaluator.rhs_and_jacobian(self.point, self.times, Y)
+
+    def jacobian_block(self, Y, rows, cols):
+        """Rows ``rows`` and columns ``cols`` of :meth:`jacobians`, (N, len(rows), len(cols))."""
+        return self.evaluator.jacobian_block(self.point, self.times, Y, rows, cols)
+
     def rhs_at(self, times, Y):
         """``rhs`` at any instants ``times`` (s, broadcast to the rows of ``Y``)."""
         return self.evaluator.rhs(self.point, times, Y)
@@ -270,7 +279,11 @@ class HarmonicBalance:
         """
         n = self.n
         Y = self.states(z, frame)
-        g = frame.accelerations(Y)[:, n:] - Y @ frame.A.T
+        if jacobian:
+            a, A = frame.accelerations_and_jacobians(Y)
+        else:
+            a = frame.accelerations(Y)
+        g = a[:, n:] - Y @ frame.A.T
         R = self.linear_operator(frame) @ z - (self.P @ (g @ frame.mass.T)).ravel()
         if not math.isfinite(float(R @ R)):
             raise ConvergenceError(f"the residual is not finite at the amplitudes {np.max(np.abs(z)):.3g}: "
@@ -278,7 +291,6 @@ class HarmonicBalance:
         if not jacobian:
             return R, None
         # J = L - P [Fq E + Fv (w E D)]: the AFT-projected force Jacobians, one product for both
-        A = frame.jacobians(Y)
         Fq = frame.mass @ (A[:, n:, :n] - frame.Aq)
         Fv = frame.mass @ (A[:, n:, n:] - frame.Av)
         return R, self.linear_operator(frame) - self._project(Fq, Fv, frame.omega)
@@ -419,6 +431,54 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
         norm = float(np.max(np.abs(R))) / scale
     raise ConvergenceError(f"{what}: no convergence in {max_iterations} Newton iterations (residual {norm:.3g} "
                            f"relative; tolerance {tol:g})", residual=norm)
+
+
+def newton_from_linear(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance", min_step=1e-4):
+    """:func:`newton`, and if it fails from ``z0``, a homotopy from the linearised problem at ``z0``.
+
+    ``R_s(z) = (1 - s) (R(z0) + J(z0) (z - z0)) + s R(z)``: at ``s = 0`` its
+    solution is one Newton step from ``z0`` (from zero: the linear response);
+    ``s`` is raised to 1 in adaptive steps (from 0.1, times 1.5 after a
+    success, halved after a failure down to ``min_step``), each solved by
+    :func:`newton` from the previous solution extrapolated along ``s`` (to
+    ``max(tol, 1e-6)`` on the way). At ``s = 1`` it is the problem itself,
+    solved to ``tol``.
+
+    Returns and raises as :func:`newton` (the iteration count summed).
+    """
+    try:
+        return newton(fun, z0, tol=tol, scale=scale, max_iterations=max_iterations, what=what)
+    except ConvergenceError as exc:
+        first = exc
+    z0 = np.array(z0, dtype=float)
+    R0, J0 = fun(z0, True)
+
+    def blended(s):
+        def f(z, jacobian):
+            R, J = fun(z, jacobian)
+            Rs = (1.0 - s) * (R0 + J0 @ (z - z0)) + s * R
+            return Rs, (None if J is None else (1.0 - s) * J0 + s * J)
+        return f
+
+    z = z0 - np.linalg.solve(J0, R0)
+    s, ds, total, previous = 0.0, 0.1, 0, None
+    while s < 1.0:
+        target = min(1.0, s + ds)
+        guess = z if previous is None else z + (z - previous[0]) * (target - s) / (s - previous[1])
+        try:
+            z_new, iterations = newton(blended(target), guess, tol=tol if target == 1.0 else max(tol, 1e-6),
+                                       scale=scale, max_iterations=max_iterations, what=what)[:2]
+        except (ConvergenceError, np.linalg.LinAlgError):
+            ds *= 0.5
+            if ds < min_step:
+                raise ConvergenceError(f"{first}; the homotopy from the linear response stalled at s = {s:.4g}",
+                                       residual=first.residual) from None
+            continue
+        total += iterations
+        previous, z, s = (z, s), z_new, target
+        ds *= 1.5
+    R, J = fun(z, True)
+    return z, total, float(np.max(np.abs(R))) / scale, J
 
 
 _LU = []
