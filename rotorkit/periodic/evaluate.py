@@ -179,10 +179,15 @@ class Evaluator:
         """An opaque handle of the equations at the system's parameters updated with ``values`` (SI)."""
         if not (self.fast or self.jitted):
             return self.system.with_parameters(**values) if values else self.system
-        merged = self.system.parameters
-        merged.update(values)
         module = self._module
-        p = np.array([merged[name] for name in module.PARAMETER_NAMES], dtype=float)
+        if not hasattr(self, "_base"):
+            base = self.system.parameters
+            self._base = np.array([base[name] for name in module.PARAMETER_NAMES], dtype=float)
+            self._index = {name: i for i, name in enumerate(module.PARAMETER_NAMES)}
+        p = self._base.copy()
+        for name, value in values.items():
+            if name in self._index:
+                p[self._index[name]] = value
         with np.errstate(all="ignore"):
             prepared = module.prepare(p, np.empty(module.N_PREPARED))
         prepared = np.ascontiguousarray(prepared, dtype=float)
