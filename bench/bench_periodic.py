@@ -3,6 +3,7 @@
     PYTHONPATH=. python bench/bench_periodic.py                       # sections a and c, median of 3
     PYTHONPATH=. python bench/bench_periodic.py --sections a --repeat 5
     PYTHONPATH=. python bench/bench_periodic.py --sections figure --out docs/figures/periodic
+    PYTHONPATH=. python bench/bench_periodic.py --blas-threads 2                # numpy's BLAS on 2 threads
 
 Sections (each prints what it measured in this run, and the load average):
 
@@ -45,7 +46,21 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
+
+def _blas_threads():
+    """``--blas-threads N`` (default 1), set before numpy loads: the matrices here are small (<= 700), and on a
+    shared machine a multi-threaded BLAS call waits for its threads (seconds per call under load)."""
+    for i, arg in enumerate(sys.argv):
+        if arg.startswith("--blas-threads"):
+            return arg.split("=", 1)[1] if "=" in arg else sys.argv[i + 1]
+    return "1"
+
+
+BLAS_THREADS = _blas_threads()
+for _name in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_name] = BLAS_THREADS
+
+import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -314,8 +329,9 @@ def main():
     parser.add_argument("--coordinates", type=int, default=100, help="size of the section c rotor")
     parser.add_argument("--harmonics", type=int, default=3, help="H of the section c solution")
     parser.add_argument("--out", default=str(ROOT / "docs" / "figures" / "periodic"))
+    parser.add_argument("--blas-threads", default="1", help="BLAS threads (set before numpy loads; default 1)")
     args = parser.parse_args()
-    print(f"load average {load():.1f} on {os.cpu_count()} cores")
+    print(f"load average {load():.1f} on {os.cpu_count()} cores; BLAS threads {BLAS_THREADS}")
     if "a" in args.sections:
         section_a(args.repeat, args.runs)
     if "b" in args.sections:

@@ -303,7 +303,7 @@ class HarmonicBalance:
         to the velocities; the Jacobian of the residual is
         ``Kt + Ct (w D) + M (w D)^2`` and Hill's method uses them as they are.
         """
-        n, H2 = self.n, 2 * self.harmonics + 1
+        n = self.n
         Y = self.states(z, frame) if states is None else states
         A = frame.jacobians(Y)
         Jq = A[:, n:, :n] - frame.Aq
