@@ -21,7 +21,8 @@ def inner_rotor():
     ]
 
 
-@pytest.mark.parametrize("speed", [240.0, 260.0, 280.0])
+# at 300 rad/s Newton from zero fails: the solution comes from the homotopy start (newton_from_linear)
+@pytest.mark.parametrize("speed", [240.0, 260.0, 280.0, 300.0])
 def test_intershaft_rub_on_a_still_outer_rotor_is_a_rub_stator(speed):
     stator = rk.Model(inner_rotor() + [rk.RubStator(station=1, clearance=CLEARANCE, contact_stiffness=KR,
                                                     friction_coefficient=MU, contact_radius=RADIUS)], name="pst")
@@ -64,3 +65,24 @@ def test_journal_bearing_unbalance_orbit_equals_the_settled_time_run():
     mean_x, mean_y = run["x1"][last].mean(), run["y1"][last].mean()
     assert np.hypot(mean_x, mean_y) == pytest.approx(abs(complex(*[branch.harmonic_amplitude(c, 0)[0]
                                                                    for c in ("x1", "y1")])), rel=1e-3)
+
+
+def test_newton_from_zero_fails_at_300_and_the_homotopy_start_solves_it():
+    from rotorkit.periodic import ConvergenceError
+    from rotorkit.periodic.hb import HarmonicBalance, newton, newton_from_linear
+
+    system = rk.Model(inner_rotor() + [rk.RubStator(station=1, clearance=CLEARANCE, contact_stiffness=KR,
+                                                    friction_coefficient=MU, contact_radius=RADIUS)],
+                      name="pst").compile()
+    hb = HarmonicBalance(system, speed_parameter="R_speed", harmonics=6)
+    frame = hb.frame({"R_speed": 300.0})
+
+    def fun(z, jacobian):
+        return hb.residual(z, frame, jacobian)
+
+    with pytest.raises(ConvergenceError, match="no convergence"):
+        newton(fun, np.zeros(hb.size), tol=1e-10, scale=frame.scale, max_iterations=50)
+    z = newton_from_linear(fun, np.zeros(hb.size), tol=1e-10, scale=frame.scale, max_iterations=50)[0]
+    assert np.max(np.abs(fun(z, False)[0])) <= 1e-10 * frame.scale
+    radius = np.hypot(*(np.reshape(z, (13, -1))[1:3, [system.coordinate_names.index(c) for c in ("x1", "y1")]]))
+    assert np.max(radius) > CLEARANCE  # a rubbing solution, not the linear one

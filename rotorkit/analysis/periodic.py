@@ -141,7 +141,9 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
         AFT samples per period, ``>= 2H + 1``; default the power of two ``>= 4 (H + 1)``, ``>= 8 (H + 1)``
         with contacts.
     start : array_like, shape (2H + 1, n), optional
-        Fourier coefficients to start Newton from at ``values[0]`` (default zero: the linear response).
+        Fourier coefficients to start Newton from at ``values[0]`` (default zero: the linear response). If
+        Newton fails from there, a homotopy from the problem linearised at the start to the full one is
+        followed (:func:`rotorkit.periodic.hb.newton_from_linear`).
     stability : {"hill", "monodromy", "none"}
         How the Floquet multipliers are computed (:mod:`rotorkit.periodic.stability`).
     tol : float, optional
@@ -177,7 +179,7 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
         Newton does not converge at ``values[0]``.
     """
     from ..periodic.continuation import ContinuationOptions, ContinuationProblem, continue_branch
-    from ..periodic.hb import DEFAULT_TOLERANCE, newton
+    from ..periodic.hb import DEFAULT_TOLERANCE, newton_from_linear
 
     system = _system(model_or_system, backend)
     speed_parameter = _speed_parameter(system, speed_parameter)
@@ -197,8 +199,8 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
     frame = problem.frame(lo)
     z0 = np.zeros(hb.size) if start is None else _start(start, hb)
     try:
-        z0 = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
-                    max_iterations=50, what=f"the solution at {parameter}={lo:g}")[0]
+        z0 = newton_from_linear(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol,
+                                scale=frame.scale, max_iterations=50, what=f"the solution at {parameter}={lo:g}")[0]
     except ConvergenceError as exc:
         raise ConvergenceError(f"{exc}; give start=... coefficients near a solution, or start the range where the "
                                "response is nearly linear", residual=exc.residual, parameter=lo) from None
@@ -290,7 +292,8 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
     Raises
     ------
     ConvergenceError
-        If Newton does not converge from ``start`` (default: zero, i.e. the linear response), or ``error_tol``
+        If Newton does not converge from ``start`` (default: zero, i.e. the linear response), nor the homotopy
+        from the problem linearised there (:func:`rotorkit.periodic.hb.newton_from_linear`), or ``error_tol``
         is not met with ``max_harmonics``.
     """
     if error_tol is not None:
@@ -310,7 +313,7 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
             start = np.vstack([branch.coefficients[0], np.zeros((2 * (new - H), branch.coefficients.shape[2]))])
             H = new
     from ..periodic.continuation import BranchPoints, ContinuationProblem
-    from ..periodic.hb import DEFAULT_TOLERANCE, newton
+    from ..periodic.hb import DEFAULT_TOLERANCE, newton_from_linear
 
     system = _system(model_or_system, backend)
     if values:
@@ -328,8 +331,8 @@ def periodic_solution(model_or_system, *, harmonics=5, speed_parameter=None, sub
     lam = system.parameters[speed_parameter]
     frame = problem.frame(lam)
     z0 = np.zeros(hb.size) if start is None else _start(start, hb)
-    z = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
-               max_iterations=50)[0]
+    z = newton_from_linear(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol, scale=frame.scale,
+                           max_iterations=50)[0]
     points = BranchPoints(parameter=[lam], coefficients=[z], tangents=[np.zeros(hb.size + 1)], residuals=[0.0],
                           reason="single solution")
     return _branch(problem, points, stability)

@@ -137,27 +137,18 @@ class CondensedHarmonicBalance(HarmonicBalance):
         """``(N, dN/dz)``: harmonics of the nonlinear forces on the kept coordinates and their Jacobian."""
         n, c = self.n, self.kept
         Y = self.states(z, frame)
-        a = frame.accelerations(Y)[:, n:]
-        g = a - Y[:, :n] @ frame.Aq.T - Y[:, n:] @ frame.Av.T
-        force = (self.P @ (g @ frame.mass.T))[:, c] - frame.forcing[:, c]
+        Mc = frame.mass[c]
+        rows = np.flatnonzero(np.any(Mc != 0.0, axis=0))  # (M g)[c] needs g only where M couples to c
+        Mr = Mc[:, rows]
+        g = frame.accelerations(Y)[:, n + rows] - Y @ frame.A[rows].T
+        force = self.P @ (g @ Mr.T) - frame.forcing[:, c]
         if not jacobian:
             return force.ravel(), None
-        A = frame.jacobians(Y)
-        Jq = A[:, n:, :n] - frame.Aq
-        Jv = A[:, n:, n:] - frame.Av
-        Mc = frame.mass[c]
-        Fq = np.einsum("im,jml->jil", Mc, Jq[:, :, c])
-        Fv = np.einsum("im,jml->jil", Mc, Jv[:, :, c])
+        cs = np.concatenate([c, n + c])
+        Fk = Mr @ (frame.jacobian_block(Y, n + rows, cs) - frame.A[np.ix_(rows, cs)])  # (N, nc, 2 nc)
         nc = len(c)
-        H2 = 2 * self.harmonics + 1
-        Dw = np.kron(frame.omega * self.D, np.eye(nc))
-        dN = self._project_small(Fq, nc, H2) + self._project_small(Fv, nc, H2) @ Dw
+        dN = self._project(np.ascontiguousarray(Fk[:, :, :nc]), np.ascontiguousarray(Fk[:, :, nc:]), frame.omega)
         return force.ravel(), dN
-
-    def _project_small(self, F, nc, H2):
-        A = self.E[:, :, None] * F.reshape(self.samples, 1, nc * nc)
-        out = (self.P @ A.reshape(self.samples, -1)).reshape(H2, H2, nc, nc)
-        return out.transpose(0, 2, 1, 3).reshape(H2 * nc, H2 * nc)
 
     def residual(self, z, frame, jacobian=True):
         """``(R_c, dR_c/dz_c)`` (N): the force balance at the kept coordinates (module notes)."""

@@ -32,7 +32,8 @@ import numpy as np
 from ..errors import ParameterError
 from .errors import ConvergenceError, NoOscillatingInput
 
-__all__ = ["HarmonicBalance", "Frame", "fourier_basis", "default_samples", "DEFAULT_TOLERANCE", "newton"]
+__all__ = ["HarmonicBalance", "Frame", "fourier_basis", "default_samples", "DEFAULT_TOLERANCE", "newton",
+           "newton_from_linear"]
 
 #: Newton stops when max |R| (N) <= DEFAULT_TOLERANCE * scale, scale the largest oscillating force amplitude at rest
 DEFAULT_TOLERANCE = 1e-10
@@ -84,7 +85,7 @@ class Frame:
         self.values = dict(values)
         self.evaluator = hb.evaluator
         self.point = hb.evaluator.point(self.values)
-        merged = hb.system.parameters
+        merged = dict(hb._parameters)
         merged.update(self.values)
         speed = float(merged[hb.speed_parameter])
         if not math.isfinite(speed) or speed <= 0.0:
@@ -96,17 +97,20 @@ class Frame:
         self.times = self.period * np.arange(hb.samples) / hb.samples
         A = self.jacobian_at(0.0, np.zeros((1, 2 * n)))[0]
         self.Aq, self.Av = A[n:, :n].copy(), A[n:, n:].copy()
+        self.A = np.ascontiguousarray(A[n:])  # (n, 2n): g = a - y @ A.T
         self.mass = hb.mass_matrix(merged)
         self.stiffness, self.damping = -self.mass @ self.Aq, -self.mass @ self.Av
-        self._linear = None
-        self._hb, self._speed, self._scale = hb, speed, None
+        self._linear = self._kron_operators = None
+        self._hb, self._speed, self._scale, self._forcing = hb, speed, None, None
 
     @property
     def forcing(self):
         """Coefficients of the forces at rest ``M a(t, 0, 0)``, shape (2H+1, n) (N, N m)."""
-        n = self._hb.n
-        rest = self.accelerations(np.zeros((self._hb.samples, 2 * n)))[:, n:] @ self.mass.T
-        return self._hb.P @ rest
+        if self._forcing is None:
+            n = self._hb.n
+            rest = self.accelerations(np.zeros((self._hb.samples, 2 * n)))[:, n:] @ self.mass.T
+            self._forcing = self._hb.P @ rest
+        return self._forcing
 
     @property
     def scale(self):
@@ -129,6 +133,29 @@ class Frame:
             self._scale = scale
         return self._scale
 
+    @property
+    def _inertia(self):
+        """``M (w D)^2`` per harmonic, (size, size)."""
+        return self._operators()[0]
+
+    @property
+    def _derivative(self):
+        """``w D`` per coordinate, (size, size)."""
+        return self._operators()[1]
+
+    @property
+    def _blocks(self):
+        """``(K, C)`` per harmonic, block diagonal, (size, size) each."""
+        return self._operators()[2]
+
+    def _operators(self):
+        if self._kron_operators is None:
+            hb, w = self._hb, self.omega
+            I = np.eye(2 * hb.harmonics + 1)
+            self._kron_operators = (_kron(w * w * (hb.D @ hb.D), self.mass), _kron(w * hb.D, np.eye(hb.n)),
+                                    (_kron(I, self.stiffness), _kron(I, self.damping)))
+        return self._kron_operators
+
     def accelerations(self, Y):
         """``rhs`` at the AFT instants for the states ``Y`` (N, 2n): shape (N, 2n)."""
         return self.evaluator.rhs(self.point, self.times, Y)
@@ -136,6 +163,14 @@ class Frame:
     def jacobians(self, Y):
         """The analytic Jacobian of ``rhs`` at the AFT instants for the states ``Y`` (N, 2n): (N, 2n, 2n)."""
         return self.evaluator.jacobian(self.point, self.times, Y)
+
+    def accelerations_and_jacobians(self, Y):
+        """:meth:`accelerations` and :meth:`jacobians` of the same states together."""
+        return self.evaluator.rhs_and_jacobian(self.point, self.times, Y)
+
+    def jacobian_block(self, Y, rows, cols):
+        """Rows ``rows`` and columns ``cols`` of :meth:`jacobians`, (N, len(rows), len(cols))."""
+        return self.evaluator.jacobian_block(self.point, self.times, Y, rows, cols)
 
     def rhs_at(self, times, Y):
         """``rhs`` at any instants ``times`` (s, broadcast to the rows of ``Y``)."""
@@ -190,6 +225,8 @@ class HarmonicBalance:
         self.E, self.P, self.D = fourier_basis(self.harmonics, self.samples)
         self.ED = self.E @ self.D
         self._mass = _mass_function(system.model)
+        self._parameters = system.parameters
+        self._grids = {}
         from .evaluate import Evaluator
 
         self.evaluator = Evaluator(system)
@@ -210,18 +247,29 @@ class HarmonicBalance:
     def states(self, z, frame):
         """Coordinates and velocities at the AFT instants, shape (N, 2n)."""
         Z = np.reshape(z, (-1, self.n))
-        return np.hstack([self.E @ Z, frame.omega * (self.ED @ Z)])
+        Y = np.empty((self.samples, 2 * self.n))
+        np.matmul(self.E, Z, out=Y[:, :self.n])
+        np.matmul(self.ED, Z, out=Y[:, self.n:])
+        Y[:, self.n:] *= frame.omega
+        return Y
 
     def linear_operator(self, frame):
         """The exact linear part ``K - (k w)^2 M`` and ``k w C`` per harmonic, as one (size, size) matrix."""
         if frame._linear is None:
-            w = frame.omega
-            I = np.eye(2 * self.harmonics + 1)
-            frame._linear = (_kron(w * w * (self.D @ self.D), frame.mass) + _kron(w * self.D, frame.damping)
-                             + _kron(I, frame.stiffness))
-            frame._inertia = _kron(w * w * (self.D @ self.D), frame.mass)
-            frame._derivative = _kron(w * self.D, np.eye(self.n))
-            frame._blocks = (_kron(I, frame.stiffness), _kron(I, frame.damping))
+            n, H, w = self.n, self.harmonics, frame.omega
+            L = np.zeros((2 * H + 1, n, 2 * H + 1, n))
+            L[0, :, 0, :] = frame.stiffness
+            k = np.arange(1, H + 1)
+            a, b = 2 * k - 1, 2 * k
+            # rows (a_k, b_k): (K - (kw)^2 M) a_k + kw C b_k and -kw C a_k + (K - (kw)^2 M) b_k, i.e. kron(w D, C)
+            # with D[a_k, b_k] = k, D[b_k, a_k] = -k
+            diagonal = frame.stiffness[None] - ((k * w) ** 2)[:, None, None] * frame.mass[None]
+            coupling = (k * w)[:, None, None] * frame.damping[None]
+            L[a, :, a, :] = diagonal
+            L[b, :, b, :] = diagonal
+            L[a, :, b, :] = coupling
+            L[b, :, a, :] = -coupling
+            frame._linear = L.reshape((2 * H + 1) * n, (2 * H + 1) * n)
         return frame._linear
 
     def residual(self, z, frame, jacobian=True):
@@ -230,18 +278,22 @@ class HarmonicBalance:
         ``R = L(w) z - P [M g(t_j, q_j, q'_j)]`` with ``L`` :meth:`linear_operator`.
         """
         n = self.n
-        Z = np.reshape(z, (-1, n))
         Y = self.states(z, frame)
-        a = frame.accelerations(Y)[:, n:]
-        g = a - Y[:, :n] @ frame.Aq.T - Y[:, n:] @ frame.Av.T
+        if jacobian:
+            a, A = frame.accelerations_and_jacobians(Y)
+        else:
+            a = frame.accelerations(Y)
+        g = a[:, n:] - Y @ frame.A.T
         R = self.linear_operator(frame) @ z - (self.P @ (g @ frame.mass.T)).ravel()
-        if not np.all(np.isfinite(R)):
-            raise ConvergenceError(f"the residual is not finite at the amplitudes {np.max(np.abs(Z)):.3g}: "
+        if not math.isfinite(float(R @ R)):
+            raise ConvergenceError(f"the residual is not finite at the amplitudes {np.max(np.abs(z)):.3g}: "
                                    "the iteration diverged", residual=math.inf)
         if not jacobian:
             return R, None
-        Kt, Ct = self.tangent(z, frame, states=Y)
-        return R, Kt + Ct @ frame._derivative + frame._inertia
+        # J = L - P [Fq E + Fv (w E D)]: the AFT-projected force Jacobians, one product for both
+        Fq = frame.mass @ (A[:, n:, :n] - frame.Aq)
+        Fv = frame.mass @ (A[:, n:, n:] - frame.Av)
+        return R, self.linear_operator(frame) - self._project(Fq, Fv, frame.omega)
 
     def tangent(self, z, frame, states=None):
         """Stiffness and damping operators ``(Kt, Ct)`` (size, size) of the linearised equations about ``z``.
@@ -251,36 +303,40 @@ class HarmonicBalance:
         to the velocities; the Jacobian of the residual is
         ``Kt + Ct (w D) + M (w D)^2`` and Hill's method uses them as they are.
         """
-        n, H2 = self.n, 2 * self.harmonics + 1
+        n = self.n
         Y = self.states(z, frame) if states is None else states
         A = frame.jacobians(Y)
         Jq = A[:, n:, :n] - frame.Aq
         Jv = A[:, n:, n:] - frame.Av
-        Fq = np.einsum("im,jml->jil", frame.mass, Jq)  # force Jacobians (N/m ...) at the samples
-        Fv = np.einsum("im,jml->jil", frame.mass, Jv)
-        self.linear_operator(frame)
+        Fq = frame.mass @ Jq  # force Jacobians (N/m ...) at the samples, (N, n, n)
+        Fv = frame.mass @ Jv
         K0, C0 = frame._blocks
         Kt = K0 - self._project(Fq)
         Ct = C0 - self._project(Fv)
         return Kt, Ct
 
-    def _project(self, F):
-        """``sum_j P[c, j] F[j, i, l] E[j, d]`` as a (size, size) matrix (rows c n + i, columns d n + l)."""
-        n, H2 = self.n, 2 * self.harmonics + 1
-        if not np.any(F):
-            return np.zeros((H2 * n, H2 * n))
-        A = self.E[:, :, None] * F.reshape(self.samples, 1, n * n)  # (j, d, i l)
-        out = (self.P @ A.reshape(self.samples, -1)).reshape(H2, H2, n, n)  # (c, d, i, l): one product
+    def _project(self, F, Fv=None, omega=0.0):
+        """``sum_j P[c, j] F[j, i, l] E[j, d]`` as a (size, size) matrix (rows c n + i, columns d n + l);
+        with ``Fv``, ``omega`` also ``+ sum_j P[c, j] Fv[j, i, l] omega (E D)[j, d]``."""
+        n, H2, N = F.shape[1], 2 * self.harmonics + 1, self.samples
+        A = self.E[:, :, None] * F.reshape(N, 1, n * n)  # (j, d, i l)
+        if Fv is not None:
+            A += (omega * self.ED)[:, :, None] * Fv.reshape(N, 1, n * n)
+        out = (self.P @ A.reshape(N, -1)).reshape(H2, H2, n, n)  # (c, d, i, l): one product
         return out.transpose(0, 2, 1, 3).reshape(H2 * n, H2 * n)
 
     def time_residual(self, z, frame, samples):
         """``M (q'' - a(t, q, q'))`` (N, N m) on ``samples`` instants of one period, shape (samples, n)."""
-        E, _, D = fourier_basis(self.harmonics, samples)
+        found = self._grids.get(samples)
+        if found is None:
+            E, _, D = fourier_basis(self.harmonics, samples)
+            found = self._grids[samples] = (E, E @ D, E @ D @ D)
+        E, ED, EDD = found
         Z = np.reshape(z, (-1, self.n))
         w = frame.omega
         times = 2.0 * np.pi * np.arange(samples) / (samples * w)
-        Y = np.hstack([E @ Z, w * (E @ D @ Z)])
-        acc = w * w * (E @ D @ D @ Z)
+        Y = np.hstack([E @ Z, w * (ED @ Z)])
+        acc = w * w * (EDD @ Z)
         a = frame.rhs_at(times, Y)[:, self.n:]
         return (acc - a) @ frame.mass.T
 
@@ -343,8 +399,7 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
     ConvergenceError
         If ``max_iterations`` pass first.
     """
-    from scipy.linalg import lu_factor, lu_solve
-
+    lu_factor, lu_solve = _lu_functions()
     z = np.array(z0, dtype=float)
     R, J = fun(z, True)
     norm = float(np.max(np.abs(R))) / scale
@@ -353,13 +408,15 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
             return z, iteration, norm, J
         if iteration == max_iterations:
             break
-        lu = lu_factor(J, check_finite=False)
+        lu = lu_factor(J)
         dz = lu_solve(lu, -R)
         size = float(np.linalg.norm(dz))
         step = 1.0
+        J_new = None
         while True:
             try:
-                R_new, _ = fun(z + step * dz, False)
+                # the full step is nearly always taken: its Jacobian is evaluated with its residual
+                R_new, J_new = fun(z + step * dz, step == 1.0)
                 ok = float(np.linalg.norm(lu_solve(lu, -R_new))) <= (1.0 - step / 4.0) * size
             except ConvergenceError:
                 ok = False
@@ -367,7 +424,87 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
                 break
             step *= 0.5
         z = z + step * dz
-        R, J = fun(z, True)
+        if ok and J_new is not None:
+            R, J = R_new, J_new
+        else:
+            R, J = fun(z, True)
         norm = float(np.max(np.abs(R))) / scale
     raise ConvergenceError(f"{what}: no convergence in {max_iterations} Newton iterations (residual {norm:.3g} "
                            f"relative; tolerance {tol:g})", residual=norm)
+
+
+def newton_from_linear(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance", min_step=1e-4):
+    """:func:`newton`, and if it fails from ``z0``, a homotopy from the linearised problem at ``z0``.
+
+    ``R_s(z) = (1 - s) (R(z0) + J(z0) (z - z0)) + s R(z)``: at ``s = 0`` its
+    solution is one Newton step from ``z0`` (from zero: the linear response);
+    ``s`` is raised to 1 in adaptive steps (from 0.1, times 1.5 after a
+    success, halved after a failure down to ``min_step``), each solved by
+    :func:`newton` from the previous solution extrapolated along ``s`` (to
+    ``max(tol, 1e-6)`` on the way). At ``s = 1`` it is the problem itself,
+    solved to ``tol``.
+
+    Returns and raises as :func:`newton` (the iteration count summed).
+    """
+    try:
+        return newton(fun, z0, tol=tol, scale=scale, max_iterations=max_iterations, what=what)
+    except ConvergenceError as exc:
+        first = exc
+    z0 = np.array(z0, dtype=float)
+    R0, J0 = fun(z0, True)
+
+    def blended(s):
+        def f(z, jacobian):
+            R, J = fun(z, jacobian)
+            Rs = (1.0 - s) * (R0 + J0 @ (z - z0)) + s * R
+            return Rs, (None if J is None else (1.0 - s) * J0 + s * J)
+        return f
+
+    z = z0 - np.linalg.solve(J0, R0)
+    s, ds, total, previous = 0.0, 0.1, 0, None
+    while s < 1.0:
+        target = min(1.0, s + ds)
+        guess = z if previous is None else z + (z - previous[0]) * (target - s) / (s - previous[1])
+        try:
+            z_new, iterations = newton(blended(target), guess, tol=tol if target == 1.0 else max(tol, 1e-6),
+                                       scale=scale, max_iterations=max_iterations, what=what)[:2]
+        except (ConvergenceError, np.linalg.LinAlgError):
+            ds *= 0.5
+            if ds < min_step:
+                raise ConvergenceError(f"{first}; the homotopy from the linear response stalled at s = {s:.4g}",
+                                       residual=first.residual) from None
+            continue
+        total += iterations
+        previous, z, s = (z, s), z_new, target
+        ds *= 1.5
+    R, J = fun(z, True)
+    return z, total, float(np.max(np.abs(R))) / scale, J
+
+
+_LU = []
+
+
+def _lu_functions():
+    """``(factor, solve)``: LAPACK's getrf/getrs without scipy's per-call checks (the matrices are small)."""
+    if not _LU:
+        from scipy.linalg import LinAlgError
+        from scipy.linalg.lapack import get_lapack_funcs
+
+        getrf, getrs = get_lapack_funcs(("getrf", "getrs"), (np.zeros((1, 1)),))
+
+        def factor(A):
+            lu, piv, info = getrf(A, overwrite_a=False)
+            if info < 0:
+                raise ValueError(f"getrf: illegal value in argument {-info}")
+            if info > 0:  # singular: as scipy's lu_factor, warn-free; the solve gives inf/nan, caught by callers
+                pass
+            return lu, piv
+
+        def solve(lu, b):
+            x, info = getrs(lu[0], lu[1], b)
+            if info != 0:
+                raise LinAlgError(f"getrs: info {info}")
+            return x
+
+        _LU.append((factor, solve))
+    return _LU[0]
