@@ -158,10 +158,10 @@ class Evaluator:
         self.fast = system.backend == "c"
         self.jitted = system.backend == "numba"
         if self.jitted:
-            from ..system import _numba_function, jacobian_module
+            from ..system import jacobian_module, numba_function
 
             self._module = module = jacobian_module(system.model, getattr(system._module, "CODEGEN", "unrolled"))
-            self._loops = {name: _numba_loop(_numba_function(module, name)) for name in ("rhs", "jac", "switches")
+            self._loops = {name: _numba_loop(numba_function(module, name)) for name in ("rhs", "jac", "switches")
                            if hasattr(module, name)}
             self._block = _numba_block_loop(_numba_function(module, "jac"))
             self._window = np.array(system.prepared_parameters[-2:], dtype=float)
