@@ -102,6 +102,18 @@ class LinearMatrices:
         function = self._function
         return lambda free_values: np.asarray(function(list(free_values)), dtype=float)[mask]
 
+    def dense(self, **free_values):
+        """``(M, C, K)`` as dense numpy arrays, shape (n, n): :meth:`__call__` without scipy (small models)."""
+        flat = self.variable_values(**free_values)
+        out, start = [], 0
+        for (rows, cols, values), (vrows, vcols) in zip(self._constant, self._variable):
+            A = np.zeros((self.n, self.n))
+            np.add.at(A, (rows, cols), values)
+            np.add.at(A, (vrows, vcols), flat[start:start + vrows.size])
+            start += vrows.size
+            out.append(A)
+        return tuple(out)
+
     def __call__(self, **free_values):
         from scipy import sparse
 
