@@ -43,6 +43,8 @@ __all__ = ["shaft_edges", "walk_positions", "LinearMatrices", "linear_evaluator"
 #: (structure, parameter values, t, free parameters) -> LinearMatrices or None (not linear); a few kept
 _CACHE = {}
 _CACHE_SIZE = 8
+#: up to this many coordinates the static deflection is a dense numpy solve, above it a sparse one
+DENSE_STATIC_SIZE = 1000
 
 
 def _namespace():
@@ -421,8 +423,6 @@ def linear_static_deflection(model, t=0.0, values=None):
     ParameterError
         If ``K`` is singular (a rotor without a stiffness path to a support).
     """
-    from scipy.sparse.linalg import MatrixRankWarning, spsolve
-
     from ..codegen.linear_cache import linear_module
 
     module = linear_module(model)
@@ -430,19 +430,26 @@ def linear_static_deflection(model, t=0.0, values=None):
         return None
     values = model.parameters if values is None else values
     evaluator = linear_evaluator(model, t, values)
-    _, _, K = evaluator()
     p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in module.PARAMETERS]
     F = _loads_at_rest(module, p, float(t))
     if not np.any(F):
         return np.zeros(F.size)
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", MatrixRankWarning)
+    if evaluator.n <= DENSE_STATIC_SIZE:  # dense LU in numpy: no scipy import for an everyday rotor
         try:
-            q = spsolve(K.tocsc(), F)
-        except MatrixRankWarning:
+            q = np.linalg.solve(evaluator.dense()[2], F)
+        except np.linalg.LinAlgError:  # an exactly zero pivot
             q = np.full(F.size, np.nan)
+    else:
+        import warnings
+
+        from scipy.sparse.linalg import MatrixRankWarning, spsolve
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", MatrixRankWarning)
+            try:
+                q = spsolve(evaluator()[2].tocsc(), F)
+            except MatrixRankWarning:
+                q = np.full(F.size, np.nan)
     if not np.all(np.isfinite(q)):
         raise ParameterError(f"static deflection of {model.name!r}: the stiffness matrix is singular; a rotor may "
                              "have no stiffness path to a support")
