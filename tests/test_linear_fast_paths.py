@@ -180,3 +180,28 @@ def test_bad_speeds_of_the_cli_are_refused(text, message):
 
     with pytest.raises(RotorkitError, match=message):
         parse_speeds(text, None)
+
+
+def test_the_static_deflection_plot_draws_the_rotor_under_the_deflection():
+    """Shaft outline, disks and bearings as patches below the curves (as under the mode shapes)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from rotorkit import Maneuver
+    from rotorkit.analysis.static import static_deflection
+
+    model = Model(list(beam_rotor().elements) + [Maneuver.steady(gravity=9.81)], name="beam_rotor_fast_gravity")
+    result = static_deflection(model)
+    assert result.layout is not None
+    fig, ax = plt.subplots()
+    assert result.plot(ax=ax) is ax
+    lowest = min(min(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata()) > 2)
+    patches = ax.patches
+    assert len(patches) >= 3 + 2 + 2  # three shaft segments, two disks, two bearings
+    assert all(p.get_window_extent().y1 <= ax.transData.transform((0.0, lowest))[1] + 1e-6 for p in patches)
+    fig_without, ax_without = plt.subplots()
+    result.plot(ax=ax_without, rotor=False)
+    assert not ax_without.patches
+    plt.close(fig)
+    plt.close(fig_without)

@@ -204,13 +204,8 @@ class Campbell:
     def to_csv(self, path=None, *, units="rad/s"):
         """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl.
 
-        Parameters
-        ----------
-        path : str or pathlib.Path, optional
-            Where to write; None returns the text.
-        units : str
-            Speed and frequency units (``"rad/s"``, ``"Hz"``, ``"rpm"``, ...);
-            the column names carry them.
+        ``path`` (None: the text) and ``units`` as for every linear result
+        (:func:`~rotorkit.analysis.tables.csv_output`).
         """
         f = frequency_factor(units)
         u = unit_slug(units)

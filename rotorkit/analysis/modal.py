@@ -305,16 +305,8 @@ class Modes:
     def to_csv(self, path=None, *, units="rad/s"):
         """The modes as CSV: mode, natural and damped frequency, damping ratio, log dec, whirl (all modes).
 
-        Parameters
-        ----------
-        path : str or pathlib.Path, optional
-            Where to write; None returns the text.
-        units : str
-            Frequency units (as in :meth:`table`); the column names carry them.
-
-        Returns
-        -------
-        str or pathlib.Path
+        ``path`` (None: the text) and ``units`` as for every linear result
+        (:func:`~rotorkit.analysis.tables.csv_output`).
         """
         columns = self._columns(units)
         rows = [",".join(columns)]
