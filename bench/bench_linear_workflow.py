@@ -17,6 +17,13 @@ Each task is one fresh ``python`` process doing what a user types, from
 ``unbalance``  load + ``unbalance_response(model, ..., 600 speeds)``
 ``static``     load + ``static_deflection(model)`` (gravity)
 ``equations``  ``rotorkit equations examples/compressor.toml`` (the CLI)
+``cli-campbell``, ``cli-unbalance``, ``cli-static``, ``cli-modes``
+               the linear CLI commands on the file as a user types them
+               (``rotorkit campbell FILE --speeds 0:1600:33``, ``rotorkit
+               unbalance FILE --speeds 10:1600:600 --unbalance 8:1.5e-3
+               --station 8``, ``rotorkit static FILE``, ``rotorkit modes
+               FILE``), tables printed, CSV and figures written (to a
+               temporary folder): the figures (matplotlib) are part of it
 ``load``       ``import rotorkit`` + the model file alone (the fixed part of
                every task above: numpy, pint's registry for the units)
 
@@ -79,12 +86,26 @@ TASKS = {
         "assert result.deflection['y10'] < 0\n"),
     "load": _LOAD,
     "equations": None,  # the CLI
+    "cli-campbell": None,
+    "cli-unbalance": None,
+    "cli-static": None,
+    "cli-modes": None,
+}
+#: the linear CLI commands: arguments after the file
+CLI = {
+    "cli-campbell": ["campbell", "{file}", "--speeds", "0:1600:33"],
+    "cli-unbalance": ["unbalance", "{file}", "--speeds", "10:1600:600", "--unbalance", "8:1.5e-3", "--station", "8"],
+    "cli-static": ["static", "{file}"],
+    "cli-modes": ["modes", "{file}"],
 }
 
 
-def command(task, file):
+def command(task, file, out=None):
     if task == "equations":
         return [sys.executable, "-m", "rotorkit.cli", "equations", str(file)]
+    if task in CLI:
+        return [sys.executable, "-m", "rotorkit.cli"] + [a.format(file=str(file)) for a in CLI[task]] + [
+            "--out", str(out)]
     return [sys.executable, "-c", TASKS[task].format(file=str(file))]
 
 
@@ -97,10 +118,11 @@ def run(task, file, cache, root=ROOT):
     """(wall s, CPU s) of one fresh process doing ``task``."""
     env = dict(os.environ, ROTORKIT_CACHE_DIR=str(cache), PYTHONPATH=str(root), OPENBLAS_NUM_THREADS="1",
                OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    cpu0, t0 = _children_cpu(), time.perf_counter()
-    # cwd comes first on the child's sys.path: run in the tree whose rotorkit is measured
-    proc = subprocess.run(command(task, file), env=env, capture_output=True, text=True, cwd=root)
-    elapsed, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
+    with tempfile.TemporaryDirectory(prefix="rotorkit-bench-out-") as out:  # the CLI tasks write there
+        cpu0, t0 = _children_cpu(), time.perf_counter()
+        # cwd comes first on the child's sys.path: run in the tree whose rotorkit is measured
+        proc = subprocess.run(command(task, file, out), env=env, capture_output=True, text=True, cwd=root)
+        elapsed, cpu = time.perf_counter() - t0, _children_cpu() - cpu0
     if proc.returncode != 0:
         raise SystemExit(f"{task} failed ({proc.returncode}):\n{proc.stderr[-3000:]}")
     return elapsed, cpu

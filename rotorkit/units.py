@@ -195,8 +195,22 @@ _FAST_UNITS = {
 }
 
 
+_FAST_UNIT_MEMO = {}  # unit text -> _fast_unit's answer: a model file repeats a handful of units
+
+
 def _fast_unit(text):
-    """(factor to SI, dimension) of a unit expression of the names in ``_FAST_UNITS``, or None."""
+    """(factor to SI, dimension) of a unit expression of the names in ``_FAST_UNITS``, or None (memoised)."""
+    try:
+        return _FAST_UNIT_MEMO[text]
+    except KeyError:
+        pass
+    answer = _parse_fast_unit(text)
+    if len(_FAST_UNIT_MEMO) < 256:
+        _FAST_UNIT_MEMO[text] = answer
+    return answer
+
+
+def _parse_fast_unit(text):
     if not text:
         return 1.0, (0, 0, 0)
     try:

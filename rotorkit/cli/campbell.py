@@ -1,7 +1,7 @@
 """``rotorkit campbell``: Campbell and stability diagrams, critical speeds, instability onset."""
 
 from .common import positive_int, save_figure
-from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds
+from .linear_common import add_linear_arguments, linear_scene, output_folder, parse_speeds
 
 
 def register(sub):
@@ -17,7 +17,7 @@ def main(args):
     from ..linear.campbell import campbell
 
     given = parse_speeds(args.speeds, None) if args.speeds is not None else None  # checked before deriving
-    system, parameter = compiled_scene(args)
+    system, parameter = linear_scene(args)  # a linear model is not compiled
     speeds = given if given is not None else parse_speeds(None, system.parameters[parameter])
     diagram = campbell(system, speeds, n_modes=args.modes, speed_parameter=parameter, orders=args.orders,
                        cage_samples=args.cage_samples)

@@ -1,11 +1,12 @@
 """Options shared by the linear-analysis commands (modes, campbell, unbalance, static)."""
 
+import math
 from pathlib import Path
 
 from ..errors import ParameterError
 from .common import add_scene_arguments
 
-__all__ = ["add_linear_arguments", "output_folder", "parse_speeds", "write_text", "compiled_scene"]
+__all__ = ["add_linear_arguments", "output_folder", "parse_speeds", "write_text", "compiled_scene", "linear_scene"]
 
 
 def add_linear_arguments(parser, *, speeds=False):
@@ -53,11 +54,41 @@ def _speed_bound(text, unit, where):
     return to_si(text.strip(), "rad/s", where)
 
 
-def parse_speeds(text, default_top):
-    """``START:STOP:COUNT`` -> COUNT speeds (rad/s); START or STOP may carry a unit (``"0:15000 rpm:31"``)."""
-    import numpy as np
+def _fast_bounds(texts):
+    """START and STOP in rad/s without pint, when each is a number or a number with a common unit, else None.
 
-    from ..units import parse_quantity
+    The rule of :func:`parse_speeds` holds: one unit on either applies to both.
+    """
+    from ..units import _NUMBER, fast_si
+
+    numbers, units = [], []
+    for text in texts:
+        text = text.strip()
+        match = _NUMBER.match(text)
+        if not match:
+            return None
+        numbers.append(float(match.group(0)))
+        units.append(text[match.end():].strip())
+    given = {u for u in units if u}
+    if len(given) > 1:
+        return None  # two units: pint says whether they are the same one
+    unit = next(iter(given), "rad/s")
+    from ..errors import UnitError
+
+    try:  # a wrong dimension or a bound that is not finite: the general path words the error
+        values = [fast_si(f"{number!r} {unit}", "rad/s") for number in numbers]
+    except UnitError:
+        return None
+    return None if any(v is None or not math.isfinite(v) for v in values) else values
+
+
+def parse_speeds(text, default_top):
+    """``START:STOP:COUNT`` -> COUNT speeds (rad/s); START or STOP may carry a unit (``"0:15000 rpm:31"``).
+
+    Numbers and the common units (rad/s, rpm, Hz ...) are read without pint
+    (:func:`rotorkit.units.fast_si`); other units through it.
+    """
+    import numpy as np
 
     if text is None:
         top = max(float(default_top), 1.0)
@@ -68,14 +99,23 @@ def parse_speeds(text, default_top):
         raise ParameterError(f"--speeds {text!r}: {hint}")
     try:
         count = int(parts[2])
-        given = [parse_quantity(p.strip(), "--speeds") for p in parts[:2]]
     except ValueError:
         raise ParameterError(f"--speeds {text!r}: {hint}") from None
-    units = {str(q.units) for q in given if not isinstance(q, float)}
-    if len(units) > 1:
-        raise ParameterError(f"--speeds {text!r}: START and STOP carry different units; give one")
-    unit = next((q.units for q in given if not isinstance(q, float)), None)
-    start, stop = (_speed_bound(p, unit, f"--speeds {text!r}") for p in parts[:2])
+    bounds = _fast_bounds(parts[:2])
+    if bounds is not None:
+        start, stop = bounds
+    else:
+        from ..units import parse_quantity
+
+        try:
+            given = [parse_quantity(p.strip(), "--speeds") for p in parts[:2]]
+        except ValueError:
+            raise ParameterError(f"--speeds {text!r}: {hint}") from None
+        units = {str(q.units) for q in given if not isinstance(q, float)}
+        if len(units) > 1:
+            raise ParameterError(f"--speeds {text!r}: START and STOP carry different units; give one")
+        unit = next((q.units for q in given if not isinstance(q, float)), None)
+        start, stop = (_speed_bound(p, unit, f"--speeds {text!r}") for p in parts[:2])
     if not (count >= 2 and stop > start >= 0):
         raise ParameterError(f"--speeds {text!r}: expected 0 <= START < STOP and COUNT >= 2")
     from ..linear.campbell import MAX_SPEEDS
@@ -103,3 +143,24 @@ def compiled_scene(args):
     if parameter not in available:
         raise ParameterError(f"--speed-parameter {parameter!r}: expected one of {available}")
     return system, parameter
+
+
+def linear_scene(args):
+    """``(model or system, speed parameter)``: the scene's model itself when its equations are linear.
+
+    A linear model (beams, disks, linear bearings) is analysed from its
+    cached matrices (:mod:`rotorkit.codegen.linear_cache`): nothing is
+    compiled, a warm cache derives nothing. Any other is compiled as by
+    :func:`compiled_scene`.
+    """
+    from ..codegen.linear_cache import linear_module
+    from .common import load_preset
+
+    _, model, _ = load_preset(args)
+    available = [p for p in model.parameters if p.endswith("_speed") and p[: -len("_speed")] in model.rotors]
+    parameter = args.speed_parameter or (available[0] if available else None)
+    if parameter not in available:
+        raise ParameterError(f"--speed-parameter {parameter!r}: expected one of {available}")
+    if linear_module(model).LINEAR:
+        return model, parameter
+    return model.compile(backend=args.backend), parameter

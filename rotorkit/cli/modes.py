@@ -1,7 +1,7 @@
 """``rotorkit modes``: modal analysis at the scene's operating point (log decrement, whirl, shapes)."""
 
 from .common import nonnegative_int, positive_int, save_figure
-from .linear_common import add_linear_arguments, compiled_scene, output_folder
+from .linear_common import add_linear_arguments, linear_scene, output_folder
 
 
 def register(sub):
@@ -18,9 +18,13 @@ def register(sub):
 def main(args):
     from ..linear.modes import natural_frequencies
 
-    system, parameter = compiled_scene(args)
-    modes = natural_frequencies(system, rub_engaged=True if args.rub_engaged else None,
-                                cage_samples=args.cage_samples)
+    system, parameter = linear_scene(args)
+    modes = linear_modes(system) if not hasattr(system, "rhs") else None  # a linear model: nothing compiled
+    if modes is None:
+        if not hasattr(system, "rhs"):
+            system = system.compile(backend=args.backend)
+        modes = natural_frequencies(system, rub_engaged=True if args.rub_engaged else None,
+                                    cage_samples=args.cage_samples)
     out = output_folder(args, "modes")
     from ..units import display_factor
 
@@ -33,3 +37,36 @@ def main(args):
         save_figure(modes.plot_orbits(mode, units=args.units).figure, out / f"mode{mode}_orbits.png")
     print(f"wrote {out / 'modes.csv'} and {min(args.shapes, len(modes))} mode-shape figures to {out}")
     return 0
+
+
+def linear_modes(model, t=0.0):
+    """The modes :func:`~rotorkit.analysis.modes.natural_frequencies` gives for a linear model, without compiling.
+
+    The state matrix ``[[0, I], [-M^-1 K, -M^-1 C]]`` from the cached
+    matrices is the Jacobian the compiled system would give (a linear model's
+    does not depend on the operating point), solved and normalised as there
+    (left shapes of the mass-normalised problem), at the static deflection.
+    None when a rotor's speed is a profile or a drive (their coordinates and
+    speeds are the compiled system's business).
+    """
+    import numpy as np
+
+    from ..analysis.linear_matrices import frozen_speed_model, linear_evaluator, linear_static_deflection
+    from ..analysis.modal import modes_from_state_matrix
+    from ..plotting.rotor import rotor_layout
+
+    if frozen_speed_model(model, t) is not model:
+        return None
+    evaluator = linear_evaluator(model, t)
+    if evaluator is None:
+        return None
+    M, C, K = evaluator.dense()
+    n = M.shape[0]
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:] = -np.linalg.solve(M, np.hstack([K, C]))
+    q = linear_static_deflection(model, t)
+    modes = modes_from_state_matrix(A, tuple(model.coordinate_names), left=True, operating_point=q,
+                                    sample_times=np.array([float(t)]), rub_engaged=False, speed=None)
+    object.__setattr__(modes, "layout", rotor_layout(model))
+    return modes

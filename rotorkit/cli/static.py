@@ -1,7 +1,7 @@
 """``rotorkit static``: static deflection under gravity or a manoeuvre load, and support reactions."""
 
 from .common import save_figure
-from .linear_common import add_linear_arguments, compiled_scene, output_folder
+from .linear_common import add_linear_arguments, linear_scene, output_folder
 
 
 def register(sub):
@@ -20,7 +20,7 @@ def main(args):
 
     t = to_si(args.t, "s", "--t")
     display_factor(args.length_units, "length", "--length-units")  # refused before any derivation
-    system, _ = compiled_scene(args)
+    system, _ = linear_scene(args)  # a linear model: K q = F from its cached matrices, nothing compiled
     result = static_deflection(system, t)
     out = output_folder(args, "static")
     print(result.table(length_units=args.length_units))

@@ -4,7 +4,7 @@ import math
 
 from ..errors import ParameterError
 from .common import save_figure
-from .linear_common import add_linear_arguments, compiled_scene, output_folder, parse_speeds
+from .linear_common import add_linear_arguments, linear_scene, output_folder, parse_speeds
 
 
 def register(sub):
@@ -45,7 +45,7 @@ def _disk_unbalances(system):
 
     values = system.parameters
     out = []
-    for e in system.model.elements:
+    for e in getattr(system, "model", system).elements:
         if isinstance(e, Disk):
             label = e.label()
             u = values[f"{label}_mass"] * values[f"{label}_eccentricity"]
@@ -60,7 +60,7 @@ def main(args):
 
     items = [_parse(u) for u in args.unbalance]  # the options are checked before deriving
     given = parse_speeds(args.speeds, None) if args.speeds is not None else None
-    system, parameter = compiled_scene(args)
+    system, parameter = linear_scene(args)  # a linear model is not compiled
     items = items or _disk_unbalances(system)
     if not items:
         raise ParameterError("no unbalance: the scene's disks have zero eccentricity; give --unbalance STATION:KG_M")

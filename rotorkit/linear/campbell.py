@@ -204,13 +204,8 @@ class Campbell:
     def to_csv(self, path=None, *, units="rad/s"):
         """One row per speed: speed, each rotor's spin, each mode's damped frequency, log dec and whirl.
 
-        Parameters
-        ----------
-        path : str or pathlib.Path, optional
-            Where to write; None returns the text.
-        units : str
-            Speed and frequency units (``"rad/s"``, ``"Hz"``, ``"rpm"``, ...);
-            the column names carry them.
+        ``path`` (None: the text) and ``units`` as for every linear result
+        (:func:`~rotorkit.analysis.tables.csv_output`).
         """
         f = frequency_factor(units)
         u = unit_slug(units)
@@ -294,7 +289,12 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
 
     if isinstance(target, LinearModel):
         wanted = sparse_count(target.n)
-        return (lambda w: target.modes(w, left=False, n_modes=wanted)), target.spin_speeds, target.speed_parameter
+
+        def linear_modes_at(w):
+            return target.modes(w, left=False, n_modes=wanted)
+
+        linear_modes_at.matrices = target.matrices  # dense (M, C, K) at a speed: the refinement's Newton steps
+        return linear_modes_at, target.spin_speeds, target.speed_parameter
     from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
     from .modal import modes_from_matrices
     from .modes import natural_frequencies
@@ -312,10 +312,14 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
         wanted = sparse_count(len(names))
 
         def modes_at(w):
-            M, C, K = evaluator(**{speed_parameter: float(w)})
+            M, C, K = evaluator(**{speed_parameter: float(w)}) if wanted else matrices_at(w)
             return modes_from_matrices(M, C, K, names, left=False, n_modes=wanted, speed=float(w),
                                        station_positions=positions)
 
+        def matrices_at(w):
+            return evaluator.dense(**{speed_parameter: float(w)})
+
+        modes_at.matrices = matrices_at
         return modes_at, spins_at, speed_parameter
     source = getattr(target, "model", target)
     system = target if model is source and hasattr(target, "rhs") else model.compile(
@@ -437,7 +441,9 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     >>> [(x.rotor, x.mode, round(x.speed, 6), x.whirl) for x in c.critical_speeds()]
     [('R', 1, 100.0, 'backward'), ('R', 2, 100.0, 'forward')]
     """
+    from .continuation import follow_mode
     from .roots import brent
+    from .whirl import shape_whirl
 
     from .modes import DEFAULT_CAGE_SAMPLES
 
@@ -468,6 +474,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     radius = np.zeros(w.size)  # largest |lambda| of each speed's eigen-problem
     prev_shapes = prev_freqs = None
     lines = None
+    spectra = []  # per speed: every eigenvalue (the gaps that keep a Newton refinement on its mode)
     for i, speed in enumerate(w):
         modes = modes_at(float(speed))
         radius[i] = float(np.max(np.abs(modes.all_eigenvalues))) if modes.all_eigenvalues.size else 0.0
@@ -477,7 +484,8 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
             lam, whirl = lam[:, :count], whirl[:, :count]
             if count == 0:
                 raise ParameterError("campbell: the system has no oscillatory mode at the first speed")
-        kinds = modes.whirl
+        spectra.append(modes.all_eigenvalues)
+        kinds = _whirl_of_columns(modes, cols)
         shapes = np.array(prev_shapes, dtype=complex) if prev_shapes is not None else np.empty(
             (len(modes.coordinate_names), count), dtype=complex)
         freqs = np.array(prev_freqs) if prev_freqs is not None else np.empty(count)
@@ -496,13 +504,24 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         for name, value in spins.items():
             lines[name][i] = value
 
+    names = tuple(modes.coordinate_names)
+    positions = modes.station_positions
     damped = lam.imag
     logdec = -2.0 * np.pi * lam.real / lam.imag
     span = float(w[-1] - w[0]) if w.size > 1 else 1.0
     xtol = 1e-9 * max(span, 1.0) if xtol is None else to_si(xtol, "rad/s", "xtol", sign="positive")
 
+    matrices_at = getattr(modes_at, "matrices", None)
+
     def tracked(k, j, speed):
         """Eigenvalue and whirl of tracked mode k at ``speed``, continued from grid point j."""
+        if matrices_at is not None and j + 1 < w.size:  # Newton from the grid: no full eigen-solution
+            followed = follow_mode(matrices_at, lam[j, k], lam[j + 1, k], tracked_shapes[j][:, k],
+                                   tracked_shapes[j + 1][:, k], spectra[j], spectra[j + 1], float(w[j]),
+                                   float(w[j + 1]), speed)
+            if followed is not None:
+                value, shape = followed
+                return value, shape_whirl(shape[:, None], names, positions)[0][0]
         modes = modes_at(speed)
         c = _match(tracked_shapes[j][:, [k]], np.array([damped[j, k]]), modes, 1)[0]
         if c is None:
@@ -572,6 +591,15 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
         onsets=tuple(sorted(onsets, key=lambda o: o.speed)),
         neutral_log_decrements=_ro(neutral),
     )
+
+
+def _whirl_of_columns(modes, cols):
+    """``modes.whirl`` for the columns ``cols`` only (None entries skipped): a mode's whirl is its own."""
+    from .whirl import shape_whirl
+
+    used = sorted({c for c in cols if c is not None})
+    kinds = shape_whirl(modes.shapes[:, used], modes.coordinate_names, modes.station_positions)[0] if used else ()
+    return dict(zip(used, kinds))
 
 
 def _line_function(w, values):

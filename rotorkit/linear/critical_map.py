@@ -48,7 +48,11 @@ class CriticalSpeedMap:
     bearing_curves: dict
 
     def to_csv(self, path=None, *, units="rad/s"):
-        """One row per support stiffness (N/m): the forward then the backward critical speeds in ``units``."""
+        """One row per support stiffness (N/m): the forward then the backward critical speeds in ``units``.
+
+        ``path`` (None: the text) and ``units`` as for every linear result
+        (:func:`~rotorkit.analysis.tables.csv_output`).
+        """
         from ..units import display_factor
         from .modal import unit_slug
         from .tables import csv_output

@@ -12,7 +12,9 @@ the structure of the matrices:
 - when the coordinates can be ordered so that the matrices are banded
   (beam finite elements, chains of stations: reverse Cuthill-McKee
   ordering of the union of the sparsity patterns), each frequency is a
-  banded LU solve, ``O(n b^2)`` (:func:`scipy.linalg.solve_banded`);
+  banded LU solve, ``O(n b^2)``, all frequencies of a batch in one
+  elimination with partial pivoting (:mod:`rotorkit.analysis.banded`, numpy
+  alone: no scipy import);
 - otherwise (small lumped models, dense couplings) the dense systems of
   all frequencies are solved in batches by :func:`numpy.linalg.solve`.
 """
@@ -31,15 +33,14 @@ _BATCH_ENTRIES = 4_000_000
 
 def band_structure(*matrices):
     """``(permutation, lower, upper)``: a bandwidth-reducing order of the coordinates and its bands."""
-    from scipy.sparse import csr_matrix
-    from scipy.sparse.csgraph import reverse_cuthill_mckee
+    from .banded import reverse_cuthill_mckee
 
     pattern = np.zeros(matrices[0].shape, dtype=bool)
     for A in matrices:
         pattern |= A != 0
     pattern |= pattern.T
     np.fill_diagonal(pattern, True)
-    perm = np.asarray(reverse_cuthill_mckee(csr_matrix(pattern.astype(np.int8)), symmetric_mode=True))
+    perm = reverse_cuthill_mckee(pattern)
     P = pattern[np.ix_(perm, perm)]
     rows, cols = np.nonzero(P)
     return perm, int(np.max(rows - cols, initial=0)), int(np.max(cols - rows, initial=0))
@@ -62,8 +63,6 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
     numpy.ndarray of complex, shape (m, n, r)
         Complex amplitudes of the coordinates (m, rad).
     """
-    from scipy.linalg import solve_banded
-
     M, C, K, G, H = model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory
     speeds = np.asarray(speeds, dtype=float)
     w = np.asarray(frequencies, dtype=float)
@@ -84,24 +83,25 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
     if method == "auto":
         method = "banded" if lower + upper + 1 <= BANDED_FRACTION * n else "dense"
     if method == "banded":
-        width = lower + upper + 1
-        i_idx, j_idx = np.nonzero(np.ones((n, n), dtype=bool) & (
-            (np.subtract.outer(np.arange(n), np.arange(n)) <= lower)
-            & (np.subtract.outer(np.arange(n), np.arange(n)) >= -upper)))
-        band_rows = upper + i_idx - j_idx
-        Mb, Cb, Kb, Gb, Hb = (np.zeros((width, n)) for _ in range(5))  # LAPACK band storage of each matrix
-        for A, band in zip((M, C, K, G, H), (Mb, Cb, Kb, Gb, Hb)):
-            band[band_rows, j_idx] = A[np.ix_(perm, perm)][i_idx, j_idx]
+        from .banded import band_rows, solve_banded_many
+
+        Mb, Cb, Kb, Gb, Hb = (band_rows(A[np.ix_(perm, perm)], lower, upper) for A in (M, C, K, G, H))
         rhs_all = (F[perm] if shared else F[:, perm])
         inverse = np.empty(n, dtype=np.int64)
         inverse[perm] = np.arange(n)
-        for k in range(w.size):
-            W, om = speeds[k], w[k]
+        if terms is not None:  # band positions of the exact speed terms
+            term_rows = inverse[terms.rows]
+            term_bands = lower + inverse[terms.cols] - term_rows
+        batch = max(1, _BATCH_ENTRIES // max(n * (lower + upper + 1), 1))
+        for start in range(0, w.size, batch):  # all speeds of a batch in one banded elimination
+            sl = slice(start, min(start + batch, w.size))
+            W, om = speeds[sl, None, None], w[sl, None, None]
             ab = (Kb + W * Hb - om * om * Mb) + 1j * om * (Cb + W * Gb)
             if terms is not None:
-                np.add.at(ab, (upper + inverse[terms.rows] - inverse[terms.cols], inverse[terms.cols]), exact(k, om))
-            out[k][perm] = solve_banded((lower, upper), ab, rhs_all if shared else rhs_all[k],
-                                        overwrite_ab=True, check_finite=False)
+                values = np.array([exact(k, w[k]) for k in range(sl.start, sl.stop)])
+                np.add.at(ab, (np.arange(ab.shape[0])[:, None], term_rows[None, :], term_bands[None, :]), values)
+            rhs = np.broadcast_to(rhs_all, (ab.shape[0],) + rhs_all.shape) if shared else rhs_all[sl]
+            out[sl][:, perm] = solve_banded_many(ab, lower, upper, rhs)
         return out
     batch = max(1, _BATCH_ENTRIES // max(n * n, 1))
     for start in range(0, w.size, batch):

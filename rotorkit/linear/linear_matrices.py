@@ -43,6 +43,8 @@ __all__ = ["shaft_edges", "walk_positions", "LinearMatrices", "linear_evaluator"
 #: (structure, parameter values, t, free parameters) -> LinearMatrices or None (not linear); a few kept
 _CACHE = {}
 _CACHE_SIZE = 8
+#: up to this many coordinates the static deflection is a dense numpy solve, above it a sparse one
+DENSE_STATIC_SIZE = 1000
 
 
 def _namespace():
@@ -101,6 +103,18 @@ class LinearMatrices:
             return self._select(mask)
         function = self._function
         return lambda free_values: np.asarray(function(list(free_values)), dtype=float)[mask]
+
+    def dense(self, **free_values):
+        """``(M, C, K)`` as dense numpy arrays, shape (n, n): :meth:`__call__` without scipy (small models)."""
+        flat = self.variable_values(**free_values)
+        out, start = [], 0
+        for (rows, cols, values), (vrows, vcols) in zip(self._constant, self._variable):
+            A = np.zeros((self.n, self.n))
+            np.add.at(A, (rows, cols), values)
+            np.add.at(A, (vrows, vcols), flat[start:start + vrows.size])
+            start += vrows.size
+            out.append(A)
+        return tuple(out)
 
     def __call__(self, **free_values):
         from scipy import sparse
@@ -409,8 +423,6 @@ def linear_static_deflection(model, t=0.0, values=None):
     ParameterError
         If ``K`` is singular (a rotor without a stiffness path to a support).
     """
-    from scipy.sparse.linalg import MatrixRankWarning, spsolve
-
     from ..codegen.linear_cache import linear_module
 
     module = linear_module(model)
@@ -418,19 +430,26 @@ def linear_static_deflection(model, t=0.0, values=None):
         return None
     values = model.parameters if values is None else values
     evaluator = linear_evaluator(model, t, values)
-    _, _, K = evaluator()
     p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in module.PARAMETERS]
     F = _loads_at_rest(module, p, float(t))
     if not np.any(F):
         return np.zeros(F.size)
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", MatrixRankWarning)
+    if evaluator.n <= DENSE_STATIC_SIZE:  # dense LU in numpy: no scipy import for an everyday rotor
         try:
-            q = spsolve(K.tocsc(), F)
-        except MatrixRankWarning:
+            q = np.linalg.solve(evaluator.dense()[2], F)
+        except np.linalg.LinAlgError:  # an exactly zero pivot
             q = np.full(F.size, np.nan)
+    else:
+        import warnings
+
+        from scipy.sparse.linalg import MatrixRankWarning, spsolve
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", MatrixRankWarning)
+            try:
+                q = spsolve(evaluator()[2].tocsc(), F)
+            except MatrixRankWarning:
+                q = np.full(F.size, np.nan)
     if not np.all(np.isfinite(q)):
         raise ParameterError(f"static deflection of {model.name!r}: the stiffness matrix is singular; a rotor may "
                              "have no stiffness path to a support")

@@ -412,7 +412,7 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
     evaluator = linear_evaluator(model, t, values, free=(speed_parameter,))
     terms = None
     if evaluator is not None:
-        (M, C0, K0), (_, C1, K1) = ([A.toarray() for A in evaluator(**{speed_parameter: w})] for w in (w0, w0 + dw))
+        (M, C0, K0), (_, C1, K1) = (evaluator.dense(**{speed_parameter: w}) for w in (w0, w0 + dw))
         G, H = (C1 - C0) / dw, (K1 - K0) / dw
         C, K = C0 - w0 * G, K0 - w0 * H
         if speed_dependence == "exact":

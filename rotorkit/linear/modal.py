@@ -305,16 +305,8 @@ class Modes:
     def to_csv(self, path=None, *, units="rad/s"):
         """The modes as CSV: mode, natural and damped frequency, damping ratio, log dec, whirl (all modes).
 
-        Parameters
-        ----------
-        path : str or pathlib.Path, optional
-            Where to write; None returns the text.
-        units : str
-            Frequency units (as in :meth:`table`); the column names carry them.
-
-        Returns
-        -------
-        str or pathlib.Path
+        ``path`` (None: the text) and ``units`` as for every linear result
+        (:func:`~rotorkit.analysis.tables.csv_output`).
         """
         columns = self._columns(units)
         rows = [",".join(columns)]
@@ -442,14 +434,10 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
         if solved is not None:
             eigenvalues, X, Y = solved
             return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields, n_modes)
-    from scipy.linalg import lu_factor, lu_solve
-
     M, C, K = dense
-    lu = lu_factor(M)
     A = np.zeros((2 * n, 2 * n))
     A[:n, n:] = np.eye(n)
-    A[n:, :n] = -lu_solve(lu, K)
-    A[n:, n:] = -lu_solve(lu, C)
+    A[n:] = -np.linalg.solve(M, np.hstack([K, C]))  # one LU of M (numpy: no scipy import on this path)
     return modes_from_state_matrix(A, names, mass=M, left=left, n_modes=n_modes, **fields)
 
 

@@ -59,12 +59,16 @@ class StaticDeflection:
     t : float
         Time (s) of the loads.
     station_positions : dict or None
+    layout : rotorkit.plotting.rotor.RotorLayout or None
+        The rotor drawn under the deflection (shaft outline, disks,
+        bearings), when the result comes from a model.
     """
 
     deflection: dict
     reactions: dict
     t: float
     station_positions: dict | None = None
+    layout: object = None
 
     @property
     def stations(self):
@@ -95,7 +99,10 @@ class StaticDeflection:
         return "\n".join(lines)
 
     def to_csv(self, path=None):
-        """The deflection (m, rad) per coordinate, then the reactions (N, N m); text, or written to ``path``."""
+        """The deflection (m, rad) per coordinate, then the reactions (N, N m).
+
+        ``path`` (None: the text) as for every linear result (:func:`~rotorkit.analysis.tables.csv_output`).
+        """
         from .tables import csv_output
 
         rows = ["coordinate,deflection_m_or_rad"] + [f"{k},{v:.10g}" for k, v in self.deflection.items()]
@@ -216,7 +223,8 @@ def static_deflection(system, t=0.0, **equilibrium):
     reactions = element_forces(model, q, t, parameters, holding)  # linear model: the cached matrices
     if reactions is None:
         reactions = _symbolic_reactions(system, model, holding, q, t)
+    from ..plotting.rotor import rotor_layout  # plain numbers: no matplotlib
     from .linear_matrices import station_positions
 
     return StaticDeflection(deflection=dict(zip(names, (float(v) for v in q))), reactions=reactions, t=float(t),
-                            station_positions=station_positions(model))
+                            station_positions=station_positions(model), layout=rotor_layout(model))

@@ -137,25 +137,18 @@ class UnbalanceResponse:
     def to_csv(self, path=None, rotor=None, *, station=None, units="rad/s", length_units="m"):
         """CSV: speed, x and y amplitude and phase (deg), forward/backward radii, ellipse axes and inclination.
 
+        ``path`` (None: the text; a station given here, as in ``to_csv(2)``,
+        is read as ``station=2``), ``units`` and ``length_units`` as for every
+        linear result (:func:`~rotorkit.analysis.tables.csv_output`).
+
         Parameters
         ----------
-        path : str or pathlib.Path, optional
-            Where to write; None returns the text. (A station given here, as
-            in ``to_csv(2)``, is read as ``station=2``.)
         rotor : str, optional
             Whose response (needed when several spools carry unbalance and a
             station is given).
         station : str or int, optional
             One station's table; None: every station of every excited rotor,
             with ``rotor`` and ``station`` columns first.
-        units : str
-            Speed and frequency units (``"rad/s"``, ``"Hz"``, ``"rpm"``, ...).
-        length_units : str
-            Amplitude units (``"m"``, ``"mm"``, ``"um"``, ...).
-
-        Returns
-        -------
-        str or pathlib.Path
         """
         from ..units import display_factor
         from .modal import unit_slug

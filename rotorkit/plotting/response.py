@@ -102,8 +102,20 @@ def plot_frf(frf, output, input, *, axes=None, units="rad/s"):
     return top, bottom
 
 
-def plot_static_deflection(static, ax=None, *, length_units="um"):
+def plot_static_deflection(static, ax=None, *, length_units="um", rotor=True):
     """Static deflection x and y of every station, with each support's largest reaction (N) annotated.
+
+    Parameters
+    ----------
+    static : rotorkit.analysis.static.StaticDeflection
+    ax : matplotlib.axes.Axes, optional
+        Drawn on (default the current axes).
+    length_units : str
+        Deflection units (``"um"``, ``"mm"``, ``"m"`` ...).
+    rotor : bool
+        Draw the rotor (shaft outline, disks, bearings) under the deflection,
+        as the mode-shape plots do, when the result carries its layout and
+        the stations have axial positions.
 
     Returns
     -------
@@ -128,6 +140,16 @@ def plot_static_deflection(static, ax=None, *, length_units="um"):
             ax.annotate(f"{element}\nF{axis} = {value:.3g} N", (p, static.deflection[name] * fl), fontsize=6,
                         textcoords="offset points", xytext=(4, 6), color="0.3")
     ax.axhline(0.0, color="0.6", lw=0.8)
+    layout = getattr(static, "layout", None)
+    if rotor and layout is not None and layout.positions and label != "station":
+        from .rotor import draw_rotor
+
+        values = np.array([static.deflection[f"{axis}{s}"] * fl for s in stations for axis in "xy"])
+        low, high = min(float(values.min()), 0.0), max(float(values.max()), 0.0)
+        height = max(high - low, 1e-300)
+        draw_rotor(ax, layout, bottom=low - 0.6 * height, top=low - 0.12 * height)  # a band below the curves
+        ax.set_ylim(low - 0.65 * height, high + 0.25 * height)
+        ax.set_yticks([t for t in ax.get_yticks() if low - 0.05 * height <= t <= high + 0.05 * height])
     ax.set_xlabel(label)
     ax.set_ylabel(f"static deflection ({length_units})")
     ax.set_title(f"static deflection along the rotor at t = {static.t:g} s", fontsize=9)
