@@ -32,7 +32,7 @@ MAX_EXPONENT = 12  # |exponent| of any unit name after multiplying out parenthes
 MAX_DEPTH = 3  # nested parentheses
 MAX_NAMES = 16  # unit names in one expression
 
-_NUMBER = re.compile(r"[+-]?(?:inf(?:inity)?|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?)(?![\w.])", re.IGNORECASE)
+NUMBER_PATTERN = re.compile(r"[+-]?(?:inf(?:inity)?|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?)(?![\w.])", re.IGNORECASE)
 _TOKEN = re.compile(r"\s*(?:(?P<name>(?:[^\W\d]|°)(?:\w|°)*)|(?P<int>[+-]?[\d.]+)|(?P<op>\*\*|[*/^()·]))")
 _NAME = re.compile(r"[A-Za-zµμ°Ω_]+")
 _GRAMMAR = ("a number, optionally followed by a unit expression: unit names joined by *, / or a space, "
@@ -242,7 +242,7 @@ def fast_si(text, unit):
     if not isinstance(text, str) or len(text) > MAX_TEXT:
         return None
     stripped = text.strip()
-    match = _NUMBER.match(stripped)
+    match = NUMBER_PATTERN.match(stripped)
     if not match:
         return None
     rest = stripped[match.end():].strip()
@@ -279,7 +279,7 @@ def parse_quantity(text, name="value"):
     if len(text) > MAX_TEXT:
         raise UnitError(f"{name}: the text is longer than {MAX_TEXT} characters; expected {_GRAMMAR}")
     stripped = text.strip()
-    match = _NUMBER.match(stripped)
+    match = NUMBER_PATTERN.match(stripped)
     if not match:
         raise _NotANumber(f"{name} = {text!r}: not a number or a quantity with units (e.g. 2e6 or '2e6 N/m')")
     value = float(match.group(0))

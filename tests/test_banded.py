@@ -1,9 +1,9 @@
-"""The numpy banded solver and ordering (rotorkit.analysis.banded) against dense LAPACK and scipy's RCM."""
+"""The numpy banded solver and ordering (rotorkit.linear.banded) against dense LAPACK and scipy's RCM."""
 
 import numpy as np
 import pytest
 
-from rotorkit.analysis.banded import band_rows, reverse_cuthill_mckee, solve_banded_many
+from rotorkit.linear.banded import band_rows, reverse_cuthill_mckee, solve_banded_many
 
 
 def _banded(rng, m, n, lower, upper, dtype=complex):

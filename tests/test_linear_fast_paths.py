@@ -117,13 +117,13 @@ def test_dense_matrices_equal_the_sparse_ones():
 
 def test_newton_refinement_of_the_critical_speeds_equals_the_full_eigen_solution(monkeypatch):
     """The located speeds with the Newton refinement and with a full eigen-solution at each step agree to xtol."""
-    import rotorkit.analysis.continuation as continuation
+    import rotorkit.linear.eigenpair as eigenpair
     from rotorkit.analysis.campbell import campbell
 
     model = beam_rotor()
     speeds = np.linspace(0.0, 3000.0, 13)
     fast = campbell(model, speeds, n_modes=4)
-    monkeypatch.setattr(continuation, "follow_mode", lambda *args, **kwargs: None)
+    monkeypatch.setattr(eigenpair, "follow_mode", lambda *args, **kwargs: None)
     slow = campbell(model, speeds, n_modes=4)
     assert len(fast.crossings) == len(slow.crossings) >= 2
     for a, b in zip(fast.crossings, slow.crossings):
@@ -137,7 +137,7 @@ def test_newton_refinement_of_the_critical_speeds_equals_the_full_eigen_solution
 
 def test_newton_eigenpair_converges_to_the_eigenvalue_of_a_jeffcott_rotor():
     """m x'' + c x' + k x = 0 (stiffnesses kx, ky): lambda = -c/2m + i sqrt(k/m - (c/2m)^2) of each direction."""
-    from rotorkit.analysis.continuation import newton_eigenpair
+    from rotorkit.linear.eigenpair import newton_eigenpair
 
     m, c, kx, ky = 2.0, 4.0, 2e4, 3e4
     M, C, K = np.eye(2) * m, np.eye(2) * c, np.diag([kx, ky])

@@ -59,12 +59,12 @@ def _fast_bounds(texts):
 
     The rule of :func:`parse_speeds` holds: one unit on either applies to both.
     """
-    from ..units import _NUMBER, fast_si
+    from ..units import NUMBER_PATTERN, fast_si
 
     numbers, units = [], []
     for text in texts:
         text = text.strip()
-        match = _NUMBER.match(text)
+        match = NUMBER_PATTERN.match(text)
         if not match:
             return None
         numbers.append(float(match.group(0)))

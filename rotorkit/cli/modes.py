@@ -51,8 +51,8 @@ def linear_modes(model, t=0.0):
     """
     import numpy as np
 
-    from ..analysis.linear_matrices import frozen_speed_model, linear_evaluator, linear_static_deflection
-    from ..analysis.modal import modes_from_state_matrix
+    from ..linear.linear_matrices import frozen_speed_model, linear_evaluator, linear_static_deflection
+    from ..linear.modal import modes_from_state_matrix
     from ..plotting.rotor import rotor_layout
 
     if frozen_speed_model(model, t) is not model:

@@ -441,7 +441,7 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     >>> [(x.rotor, x.mode, round(x.speed, 6), x.whirl) for x in c.critical_speeds()]
     [('R', 1, 100.0, 'backward'), ('R', 2, 100.0, 'forward')]
     """
-    from .continuation import follow_mode
+    from .eigenpair import follow_mode
     from .roots import brent
     from .whirl import shape_whirl
 

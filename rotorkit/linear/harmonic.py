@@ -13,7 +13,7 @@ the structure of the matrices:
   (beam finite elements, chains of stations: reverse Cuthill-McKee
   ordering of the union of the sparsity patterns), each frequency is a
   banded LU solve, ``O(n b^2)``, all frequencies of a batch in one
-  elimination with partial pivoting (:mod:`rotorkit.analysis.banded`, numpy
+  elimination with partial pivoting (:mod:`rotorkit.linear.banded`, numpy
   alone: no scipy import);
 - otherwise (small lumped models, dense couplings) the dense systems of
   all frequencies are solved in batches by :func:`numpy.linalg.solve`.
