@@ -54,8 +54,17 @@ def _orbit_state(hb, z, frame):
     return state
 
 
-def monodromy_multipliers(hb, z, frame, *, rtol=1e-10, atol=1e-12):
+def monodromy_multipliers(hb, z, frame, *, method="collocation", rtol=1e-10, atol=1e-12, steps=None):
     """Floquet multipliers (complex, shape (2n,)) from the monodromy matrix over one base period.
+
+    Parameters
+    ----------
+    method : {"collocation", "dop853"}
+        ``"collocation"`` (default): exponential collocation in the modal coordinates of the linear part, the
+        nonlinear part's Jacobian of low rank (:mod:`rotorkit.periodic.floquet`; ``steps`` per period, default
+        :data:`~rotorkit.periodic.floquet.DEFAULT_STEPS`); it falls back to ``"dop853"`` when the linear part
+        is not diagonalisable or the nonlinear part depends on more than half the coordinates.
+        ``"dop853"``: the full variational equations ``Phi' = J Phi`` by scipy's DOP853 (``rtol``, ``atol``).
 
     Returns
     -------
@@ -63,6 +72,17 @@ def monodromy_multipliers(hb, z, frame, *, rtol=1e-10, atol=1e-12):
     monodromy : numpy.ndarray, shape (2n, 2n)
     """
     from scipy.integrate import solve_ivp
+
+    if method not in ("collocation", "dop853"):
+        from ..errors import ParameterError
+
+        raise ParameterError(f"method={method!r} is unknown: expected 'collocation' or 'dop853'")
+    if method == "collocation":
+        from .floquet import DEFAULT_STEPS, exponential_monodromy
+
+        found = exponential_monodromy(hb, z, frame, steps=DEFAULT_STEPS if steps is None else steps)
+        if found is not None:
+            return found
 
     m = 2 * hb.n
     state = _orbit_state(hb, z, frame)
