@@ -18,13 +18,20 @@ solution, the Jacobian compiled beforehand:
 - ``dop853`` (the old monodromy path, ``--no-old`` skips it): the full
   variational equations, 200 x 200, by scipy's DOP853 at rtol 1e-10.
 
-It prints the medians, the ratios to the old path, and the agreement: the
+Every method runs with one BLAS thread (``OPENBLAS_NUM_THREADS=1`` unless
+set): on this shared two-core machine a threaded BLAS oversubscribed by the
+other processes made a 200 x 200 eigenvalue call take seconds instead of
+tenths. It prints the medians, the ratios to the old path, and the agreement: the
 largest distance from a multiplier of one method to the nearest of another,
 and the collocation's change from ``steps`` to ``2 steps``.
 """
 
-import argparse
 import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # see the notes: one BLAS thread for every method
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse
 import statistics
 import sys
 import time
