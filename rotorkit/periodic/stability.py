@@ -31,6 +31,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .hb import _kron
+
 __all__ = ["monodromy_multipliers", "hill_multipliers", "is_stable", "classify_crossing", "STABILITY_TOL"]
 
 #: |mu| above 1 + STABILITY_TOL counts as unstable
@@ -105,15 +107,22 @@ def hill_exponents(hb, z, frame):
     n, H2 = hb.n, 2 * hb.harmonics + 1
     size = n * H2
     Kt, Ct = hb.tangent(z, frame)
-    hb.linear_operator(frame)
-    J = Kt + Ct @ frame._derivative + frame._inertia
-    Mb = np.kron(np.eye(H2), frame.mass)
-    D1 = 2.0 * Mb @ frame._derivative + Ct
-    Minv = np.linalg.inv(Mb)
+    wD = frame.omega * hb.D
+    Minv = np.linalg.inv(frame.mass)
+
+    def right_derivative(X):  # X @ kron(w D, I_n), without the dense product
+        return np.einsum("acl,cd->adl", X.reshape(size, H2, n), wD).reshape(size, size)
+
+    def left_mass_inverse(X):  # kron(I, M^-1) @ X, block by block
+        return np.einsum("ij,hjs->his", Minv, X.reshape(H2, n, -1)).reshape(size, -1)
+
+    # J_HB = Kt + Ct (w D) + M (w D)^2 and 2 M (w D) + Ct, each of them per harmonic block
+    J = Kt + right_derivative(Ct) + _kron(wD @ wD, frame.mass)
+    D1 = 2.0 * _kron(wD, frame.mass) + Ct
     A = np.zeros((2 * size, 2 * size))
     A[:size, size:] = np.eye(size)
-    A[size:, :size] = -Minv @ J
-    A[size:, size:] = -Minv @ D1
+    A[size:, :size] = -left_mass_inverse(J)
+    A[size:, size:] = -left_mass_inverse(D1)
     lam, vectors = np.linalg.eig(A)
     P = vectors[:size].reshape(H2, n, -1)  # real-basis coefficients of p, per eigenvector
     a, b = P[1::2], P[2::2]
