@@ -217,9 +217,14 @@ def exponential_monodromy(hb, z, frame, *, steps=DEFAULT_STEPS, nodes=NODES, ran
     A[:, cols] += mean
     Nc -= mean[None]
     lam, V = np.linalg.eig(A)
-    if not np.all(np.isfinite(lam)) or np.linalg.cond(V) > 1e8:
+    if not np.all(np.isfinite(lam)):
         return None
-    Vinv = np.linalg.inv(V)
+    try:
+        Vinv = np.linalg.inv(V)
+    except np.linalg.LinAlgError:
+        return None
+    if np.linalg.norm(V, 1) * np.linalg.norm(Vinv, 1) > 1e8:  # the 1-norm condition number: no SVD needed
+        return None
     X = np.eye(m, dtype=complex)
     if r:
         G = (Vinv @ Nc.transpose(1, 0, 2).reshape(m, -1)).reshape(m, len(h_all), nodes, r).transpose(1, 2, 0, 3)

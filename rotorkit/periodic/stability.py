@@ -1,9 +1,13 @@
 """Stability of periodic solutions: Floquet multipliers by the monodromy matrix and by Hill's method; bifurcations.
 
 Monodromy matrix
-    ``Phi' = J(t, y(t)) Phi``, ``Phi(0) = I`` integrated over one period
-    ``T = 2 pi / w`` (scipy's DOP853, ``rtol`` 1e-10), ``J`` the system's
-    analytic Jacobian along the harmonic-balance orbit ``y(t)``. The
+    ``Phi' = J(t, y(t)) Phi``, ``Phi(0) = I`` over one period
+    ``T = 2 pi / w``, ``J`` the system's analytic Jacobian along the
+    harmonic-balance orbit ``y(t)``. By default by exponential collocation in
+    the modal coordinates of the linear part, the local forces' Jacobian of
+    low rank, steps ending at the contact switches
+    (:mod:`rotorkit.periodic.floquet`); ``method="dop853"`` integrates the
+    full variational equations (scipy's DOP853, ``rtol`` 1e-10). The
     multipliers are the eigenvalues of ``Phi(T)``.
 
 Hill's method
