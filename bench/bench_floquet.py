@@ -87,7 +87,8 @@ def main():
     frame = hb.frame()
     z = solution.coefficients[0].ravel()
     print(f"{hb.n} coordinates ({system.backend} back end), H = 3: set-up (derive, compile, condensed solution) "
-          f"{time.perf_counter() - t0:.1f} s; max radius at the rub {solution.max_radius(args.nodes // 3 + 1)[0]:.3g} m",
+          f"{time.perf_counter() - t0:.1f} s; max radius at the rub "
+          f"{solution.max_radius(args.nodes // 3 + 1)[0]:.3g} m",
           flush=True)
     monodromy_multipliers(hb, z, frame, steps=8)  # warm: the Jacobian's first call is not timed
     fast, mc = timed(lambda: monodromy_multipliers(hb, z, frame, steps=steps)[0], args.repeat)

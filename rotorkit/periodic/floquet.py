@@ -48,7 +48,7 @@ NODES = 6
 
 
 def phi_functions(z, jmax):
-    """``phi_0 ... phi_jmax`` of ``z`` (``phi_0 = e^z``, ``phi_{j+1}(z) = (phi_j(z) - 1/j!) / z``), shape (jmax+1, *z.shape).
+    """``phi_0 ... phi_jmax`` of ``z``, shape (jmax+1, *z.shape): ``phi_0 = e^z``, ``phi_{j+1} = (phi_j - 1/j!) / z``.
 
     The recursion for ``|z| >= 1/2``, the Taylor series ``sum_k z^k / (k + j)!`` below.
     """
