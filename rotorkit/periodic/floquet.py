@@ -28,8 +28,10 @@ columns of the monodromy matrix at once. A step costs two products of
 The contact forces' Jacobian jumps where an orbit meets or leaves a
 stator: the steps end at those instants (roots of the system's switch
 functions along the orbit, located to round-off), so each step sees a
-smooth ``N`` and the scheme keeps its order. The multipliers are the
-eigenvalues of ``X(T)``, similar to the monodromy matrix
+smooth ``N`` and the scheme keeps its order (the switch functions are
+scanned on 128 instants of the period: a contact shorter than that between
+two of them is not seen, and its step converges at a lower order). The
+multipliers are the eigenvalues of the (real) monodromy matrix
 ``Phi(T) = V X(T) V^-1``.
 """
 
@@ -82,7 +84,7 @@ def _orbit_states(hb, z, frame, times):
     return np.hstack([basis @ Z, frame.omega * (basis @ (hb.D @ Z))])
 
 
-def _switch_times(hb, z, frame, samples=512):
+def _switch_times(hb, z, frame, samples=128):
     """Instants in (0, T) where a switch function of the system changes sign along the orbit (s), sorted.
 
     Sign changes on ``samples`` instants of the period, each refined by the Illinois variant of regula falsi
@@ -245,6 +247,5 @@ def exponential_monodromy(hb, z, frame, *, steps=DEFAULT_STEPS, nodes=NODES, ran
             X = E_end[:, None] * X + L @ W
     else:
         X = np.diag(np.exp(lam * T))
-    multipliers = np.linalg.eigvals(X)
     Phi = (V @ X @ Vinv).real
-    return multipliers, Phi
+    return np.linalg.eigvals(Phi), Phi  # real: a cheaper eigenvalue problem than X's, the same multipliers
