@@ -225,8 +225,8 @@ def exponential_monodromy(hb, z, frame, *, steps=DEFAULT_STEPS, nodes=NODES, ran
         Vinv = np.linalg.inv(V)
     except np.linalg.LinAlgError:
         return None
-    if np.linalg.norm(V, 1) * np.linalg.norm(Vinv, 1) > 1e8:  # the 1-norm condition number: no SVD needed
-        return None
+    if np.linalg.norm(V, 1) * np.linalg.norm(Vinv, 1) > 1e8 * m:  # the 1-norm condition (<= 2n times the
+        return None  # 2-norm one, for which 1e8 is the limit) without an SVD
     X = np.eye(m, dtype=complex)
     if r:
         G = (Vinv @ Nc.transpose(1, 0, 2).reshape(m, -1)).reshape(m, len(h_all), nodes, r).transpose(1, 2, 0, 3)
