@@ -1,9 +1,13 @@
 """Stability of periodic solutions: Floquet multipliers by the monodromy matrix and by Hill's method; bifurcations.
 
 Monodromy matrix
-    ``Phi' = J(t, y(t)) Phi``, ``Phi(0) = I`` integrated over one period
-    ``T = 2 pi / w`` (scipy's DOP853, ``rtol`` 1e-10), ``J`` the system's
-    analytic Jacobian along the harmonic-balance orbit ``y(t)``. The
+    ``Phi' = J(t, y(t)) Phi``, ``Phi(0) = I`` over one period
+    ``T = 2 pi / w``, ``J`` the system's analytic Jacobian along the
+    harmonic-balance orbit ``y(t)``. By default by exponential collocation in
+    the modal coordinates of the linear part, the local forces' Jacobian of
+    low rank, steps ending at the contact switches
+    (:mod:`rotorkit.periodic.floquet`); ``method="dop853"`` integrates the
+    full variational equations (scipy's DOP853, ``rtol`` 1e-10). The
     multipliers are the eigenvalues of ``Phi(T)``.
 
 Hill's method
@@ -31,6 +35,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .hb import _kron
+
 __all__ = ["monodromy_multipliers", "hill_multipliers", "is_stable", "classify_crossing", "STABILITY_TOL"]
 
 #: |mu| above 1 + STABILITY_TOL counts as unstable
@@ -54,8 +60,17 @@ def orbit_state(hb, z, frame):
     return state
 
 
-def monodromy_multipliers(hb, z, frame, *, rtol=1e-10, atol=1e-12):
+def monodromy_multipliers(hb, z, frame, *, method="collocation", rtol=1e-10, atol=1e-12, steps=None):
     """Floquet multipliers (complex, shape (2n,)) from the monodromy matrix over one base period.
+
+    Parameters
+    ----------
+    method : {"collocation", "dop853"}
+        ``"collocation"`` (default): exponential collocation in the modal coordinates of the linear part, the
+        nonlinear part's Jacobian of low rank (:mod:`rotorkit.periodic.floquet`; ``steps`` per period, default
+        :data:`~rotorkit.periodic.floquet.DEFAULT_STEPS`); it falls back to ``"dop853"`` when the linear part
+        is not diagonalisable or the nonlinear part depends on more than half the coordinates.
+        ``"dop853"``: the full variational equations ``Phi' = J Phi`` by scipy's DOP853 (``rtol``, ``atol``).
 
     Returns
     -------
@@ -63,6 +78,17 @@ def monodromy_multipliers(hb, z, frame, *, rtol=1e-10, atol=1e-12):
     monodromy : numpy.ndarray, shape (2n, 2n)
     """
     from scipy.integrate import solve_ivp
+
+    if method not in ("collocation", "dop853"):
+        from ..errors import ParameterError
+
+        raise ParameterError(f"method={method!r} is unknown: expected 'collocation' or 'dop853'")
+    if method == "collocation":
+        from .floquet import DEFAULT_STEPS, exponential_monodromy
+
+        found = exponential_monodromy(hb, z, frame, steps=DEFAULT_STEPS if steps is None else steps)
+        if found is not None:
+            return found
 
     m = 2 * hb.n
     state = orbit_state(hb, z, frame)
@@ -85,15 +111,22 @@ def hill_exponents(hb, z, frame):
     n, H2 = hb.n, 2 * hb.harmonics + 1
     size = n * H2
     Kt, Ct = hb.tangent(z, frame)
-    hb.linear_operator(frame)
-    J = Kt + Ct @ frame._derivative + frame._inertia
-    Mb = np.kron(np.eye(H2), frame.mass)
-    D1 = 2.0 * Mb @ frame._derivative + Ct
-    Minv = np.linalg.inv(Mb)
+    wD = frame.omega * hb.D
+    Minv = np.linalg.inv(frame.mass)
+
+    def right_derivative(X):  # X @ kron(w D, I_n), without the dense product
+        return np.einsum("acl,cd->adl", X.reshape(size, H2, n), wD).reshape(size, size)
+
+    def left_mass_inverse(X):  # kron(I, M^-1) @ X, block by block
+        return np.einsum("ij,hjs->his", Minv, X.reshape(H2, n, -1)).reshape(size, -1)
+
+    # J_HB = Kt + Ct (w D) + M (w D)^2 and 2 M (w D) + Ct, each of them per harmonic block
+    J = Kt + right_derivative(Ct) + _kron(wD @ wD, frame.mass)
+    D1 = 2.0 * _kron(wD, frame.mass) + Ct
     A = np.zeros((2 * size, 2 * size))
     A[:size, size:] = np.eye(size)
-    A[size:, :size] = -Minv @ J
-    A[size:, size:] = -Minv @ D1
+    A[size:, :size] = -left_mass_inverse(J)
+    A[size:, size:] = -left_mass_inverse(D1)
     lam, vectors = np.linalg.eig(A)
     P = vectors[:size].reshape(H2, n, -1)  # real-basis coefficients of p, per eigenvector
     a, b = P[1::2], P[2::2]
