@@ -152,8 +152,8 @@ class Frame:
         if self._kron_operators is None:
             hb, w = self._hb, self.omega
             I = np.eye(2 * hb.harmonics + 1)
-            self._kron_operators = (_kron(w * w * (hb.D @ hb.D), self.mass), _kron(w * hb.D, np.eye(hb.n)),
-                                    (_kron(I, self.stiffness), _kron(I, self.damping)))
+            self._kron_operators = (block_kron(w * w * (hb.D @ hb.D), self.mass), block_kron(w * hb.D, np.eye(hb.n)),
+                                    (block_kron(I, self.stiffness), block_kron(I, self.damping)))
         return self._kron_operators
 
     def accelerations(self, Y):
@@ -185,7 +185,7 @@ class Frame:
         return self.evaluator.switches(self.point, self.times, Y)
 
 
-def _kron(a, b):
+def block_kron(a, b):
     """``numpy.kron`` of two 2-D arrays without its generality (called per frame)."""
     return (a[:, None, :, None] * b[None, :, None, :]).reshape(a.shape[0] * b.shape[0], a.shape[1] * b.shape[1])
 

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .hb import _kron
+from .hb import block_kron
 
 __all__ = ["monodromy_multipliers", "hill_multipliers", "is_stable", "classify_crossing", "STABILITY_TOL"]
 
@@ -121,8 +121,8 @@ def hill_exponents(hb, z, frame):
         return np.einsum("ij,hjs->his", Minv, X.reshape(H2, n, -1)).reshape(size, -1)
 
     # J_HB = Kt + Ct (w D) + M (w D)^2 and 2 M (w D) + Ct, each of them per harmonic block
-    J = Kt + right_derivative(Ct) + _kron(wD @ wD, frame.mass)
-    D1 = 2.0 * _kron(wD, frame.mass) + Ct
+    J = Kt + right_derivative(Ct) + block_kron(wD @ wD, frame.mass)
+    D1 = 2.0 * block_kron(wD, frame.mass) + Ct
     A = np.zeros((2 * size, 2 * size))
     A[:size, size:] = np.eye(size)
     A[size:, :size] = -left_mass_inverse(J)
