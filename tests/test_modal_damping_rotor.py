@@ -146,3 +146,11 @@ def test_simulate_refuses_with_a_named_error():
     system = disk_on_bearing(ModalDamping(ratios=(0.01,))).compile(backend="python")
     with pytest.raises(ParameterError, match=r"simulate: .*ModalDamping.*Use Rayleigh"):
         rk.simulate(system, (0.0, 0.01))
+
+
+def test_harmonic_balance_refuses_with_a_named_error():
+    from rotorkit.periodic.hb import HarmonicBalance
+
+    system = disk_on_bearing(ModalDamping(ratios=(0.01,))).compile(backend="python")
+    with pytest.raises(ParameterError, match=r"HarmonicBalance: .*ModalDamping.*Use Rayleigh"):
+        HarmonicBalance(system, speed_parameter="R_speed", harmonics=1)
