@@ -32,6 +32,11 @@ The rotor's structure is every element of the rotor whose class lists
 masses their mass, shaft segments their stiffness. A new element type joins
 it by setting that class attribute; this module imports no element type.
 
+:class:`ModalDamping` is the other damping spec a rotor takes: damping
+ratios of the model's undamped non-rotating modes, a numeric matrix that
+only the linear analyses add (:mod:`rotorkit.linear.modal_damping`); it
+contributes no terms here.
+
 Source: Rayleigh, *The Theory of Sound* (1877), section 97; Friswell et al.,
 *Dynamics of Rotating Machines* (2010), section 2.5.5 (proportional damping)
 and section 5.7 (internal damping).
