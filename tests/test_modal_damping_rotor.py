@@ -154,3 +154,18 @@ def test_harmonic_balance_refuses_with_a_named_error():
     system = disk_on_bearing(ModalDamping(ratios=(0.01,))).compile(backend="python")
     with pytest.raises(ParameterError, match=r"HarmonicBalance: .*ModalDamping.*Use Rayleigh"):
         HarmonicBalance(system, speed_parameter="R_speed", harmonics=1)
+
+
+@pytest.mark.slow  # ~20 s: derives and compiles a beam model
+def test_compiled_and_linear_paths_agree_at_speed():
+    """With gyroscopics (a beam at 300 rad/s) the ratios move off the given ones; both paths see the same C."""
+    model = Model([Rotor(name="R", stations=(1, 2), speed=300.0,
+                         damping=ModalDamping(ratios=(0.01, 0.02, 0.05, 0.03), remaining=0.004)),
+                   rk.BeamSegment(start=1, end=2, length=0.8, outer_diameter=0.04, material=rk.Material.steel(),
+                                  elements=3),
+                   LinearBearing(station=1, kxx=2e7, kyy=5e7), LinearBearing(station=2, kxx=2e7, kyy=5e7)])
+    linear = rk.linear_model(model).modes(300.0)
+    compiled = natural_frequencies(model.compile(backend="python"), equilibrium=False)
+    np.testing.assert_allclose(compiled.frequencies[:6], linear.frequencies[:6], rtol=1e-6)
+    np.testing.assert_allclose(compiled.damping_ratios[:6], linear.damping_ratios[:6], rtol=1e-5)
+    assert abs(linear.damping_ratios[0] - 0.01) > 1e-7  # the speed did mix the modes
