@@ -19,6 +19,7 @@ _LAZY = {
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment", "BeamSegment", "Material", "LinearBearing", "Pedestal", "SpeedProfile",
                      "BaseRotation", "SqueezeFilmDamper", "JournalBearing", "Rayleigh"), "elements"),
+    "ModalDamping": "elements",
     # the linear analyses a user starting from a Model reaches for first
     "campbell": "linear.campbell",
     "Unbalance": "linear.unbalance",
@@ -82,6 +83,7 @@ __all__ = [
     "Drive",
     "Maneuver",
     "Rayleigh",
+    "ModalDamping",
     "Model",
     "load_model",
     "System",

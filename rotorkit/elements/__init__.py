@@ -5,7 +5,7 @@ from .base_motion import BaseRotation
 from .beam import BeamSegment
 from .bearing import BallBearing
 from .journal_bearing import JournalBearing
-from .damping import Rayleigh
+from .damping import ModalDamping, Rayleigh
 from .linear_bearing import LinearBearing
 from .maneuver import Maneuver
 from .masses import Disk, DiskGeometry, LumpedMass
@@ -30,6 +30,7 @@ __all__ = [
     "TaperedBeamSegment",
     "Rotor",
     "Rayleigh",
+    "ModalDamping",
     "Disk",
     "DiskGeometry",
     "LumpedMass",

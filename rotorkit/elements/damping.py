@@ -32,19 +32,25 @@ The rotor's structure is every element of the rotor whose class lists
 masses their mass, shaft segments their stiffness. A new element type joins
 it by setting that class attribute; this module imports no element type.
 
+:class:`ModalDamping` is the other damping spec a rotor takes: damping
+ratios of the model's undamped non-rotating modes, a numeric matrix that
+only the linear analyses add (:mod:`rotorkit.linear.modal_damping`); it
+contributes no terms here.
+
 Source: Rayleigh, *The Theory of Sound* (1877), section 97; Friswell et al.,
 *Dynamics of Rotating Machines* (2010), section 2.5.5 (proportional damping)
 and section 5.7 (internal damping).
 """
 
 import math
+import numbers
 from dataclasses import dataclass
 from typing import ClassVar, Mapping
 
 from ..errors import ParameterError
 from ..units import to_si
 
-__all__ = ["Rayleigh", "PREFIX"]
+__all__ = ["Rayleigh", "ModalDamping", "PREFIX"]
 
 #: rotor parameter names of the damping: ``<rotor>_damping_alpha``, ``<rotor>_damping_beta``
 PREFIX = "damping_"
@@ -138,6 +144,69 @@ class Rayleigh:
         values = {name: getattr(self, name) for name in _UNITS}
         values.update({k[len(PREFIX):]: v for k, v in fields.items()})
         return Rayleigh(**values)
+
+
+@dataclass(frozen=True, slots=True)
+class ModalDamping:
+    """Modal damping ratios of a model's undamped, non-rotating modes (linear analyses only).
+
+    ``Rotor(..., damping=ModalDamping(ratios=(0.01, 0.02), remaining=0.0))``
+    gives the ``k``-th lowest undamped mode of the model at rest (every
+    rotor at speed 0, symmetric part of the stiffness, bearings and supports
+    included) the damping ratio ``ratios[k]``, and every further mode
+    ``remaining``, by the viscous matrix ``C = M Phi diag(2 zeta_k w_k) Phi^T M``
+    (:mod:`rotorkit.linear.modal_damping`). The matrix depends on every
+    parameter through the modes, so it is numeric: the linear analyses
+    (modes, Campbell, unbalance and frequency responses) add it to their
+    damping at the parameter values of the call; it adds no term to the
+    derived equations, and a time simulation of such a model is refused
+    (use :class:`Rayleigh` there). The ratios are part of the spec, not
+    parameters: change them with ``dataclasses.replace`` (no re-derivation).
+    At most one rotor of a model holds it (the modes are the model's).
+
+    Parameters
+    ----------
+    ratios : sequence of float
+        Damping ratios (-) of the lowest modes, in ascending frequency; each
+        finite, in [0, 1); at least one.
+    remaining : float
+        Damping ratio (-) of every further mode, in [0, 1); default 0.
+
+    Examples
+    --------
+    >>> ModalDamping(ratios=(0.01, 0.02)).ratios
+    (0.01, 0.02)
+    >>> ModalDamping(ratios=(0.01, 1.2))
+    Traceback (most recent call last):
+    ...
+    rotorkit.errors.ParameterError: ModalDamping.ratios[1] = 1.2: expected a damping ratio in [0, 1)
+    """
+
+    ratios: tuple = ()
+    remaining: float = 0.0
+
+    def __post_init__(self):
+        ratios = self.ratios
+        if isinstance(ratios, (str, bytes)) or not hasattr(ratios, "__len__") or len(ratios) == 0:
+            raise ParameterError(f"ModalDamping.ratios = {ratios!r}: expected a non-empty sequence of damping "
+                                 "ratios (-), e.g. (0.01, 0.02)")
+        checked = []
+        for i, z in enumerate(list(ratios) + [self.remaining]):
+            name = f"ratios[{i}]" if i < len(ratios) else "remaining"
+            if isinstance(z, bool) or not isinstance(z, numbers.Real) or not 0 <= float(z) < 1:
+                raise ParameterError(f"ModalDamping.{name} = {z!r}: expected a damping ratio in [0, 1)")
+            checked.append(float(z))
+        object.__setattr__(self, "ratios", tuple(checked[:-1]))
+        object.__setattr__(self, "remaining", checked[-1])
+
+    def parameters(self):
+        """No rotor parameters: the ratios are part of the spec (``{}``)."""
+        return {}
+
+    def replace(self, **fields):
+        if fields:
+            raise ParameterError(f"ModalDamping has no parameters; got {sorted(fields)}")
+        return self
 
 
 def _hessian(expr, variables, zero):

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
-from .damping import PREFIX as _DAMPING, Rayleigh, rayleigh_terms
+from .damping import PREFIX as _DAMPING, ModalDamping, Rayleigh, rayleigh_terms
 from .drive import Drive
 from .speed import SpeedProfile
 
@@ -71,10 +71,13 @@ class Rotor(Element):
         Speed relative to ``reference``.
     reference : str, optional
         Name of the rotor ``speed_ratio`` refers to.
-    damping : Rayleigh, optional
+    damping : Rayleigh or ModalDamping, optional
         Proportional structural damping ``alpha M + beta K`` of the rotor's
         shaft and disks (:mod:`rotorkit.elements.damping`); parameters
-        ``<name>_damping_alpha``, ``<name>_damping_beta``.
+        ``<name>_damping_alpha``, ``<name>_damping_beta``. Or
+        :class:`~rotorkit.elements.damping.ModalDamping`: damping ratios of
+        the model's undamped non-rotating modes, for the linear analyses only
+        (no parameters; at most one rotor of a model).
 
     Examples
     --------
@@ -88,7 +91,7 @@ class Rotor(Element):
     speed: float | None = None
     speed_ratio: float | None = None
     reference: str | None = None
-    damping: Rayleigh | None = None
+    damping: Rayleigh | ModalDamping | None = None
 
     _units = {"speed": ("rad/s", None), "speed_ratio": ("", "positive")}
     _latex_names = {"speed": r"\Omega", "speed_ratio": r"\gamma"}
@@ -129,9 +132,9 @@ class Rotor(Element):
             raise ParameterError(f"Rotor {self.name!r}: reference = {self.reference!r}: expected a rotor name (str)")
         if self.speed is not None and self.reference is not None:
             raise ParameterError(f"Rotor {self.name!r}: reference is only used with speed_ratio")
-        if self.damping is not None and not isinstance(self.damping, Rayleigh):
-            raise ParameterError(f"Rotor {self.name!r}: damping = {self.damping!r}: expected Rayleigh(alpha, beta) "
-                                 "or None")
+        if self.damping is not None and not isinstance(self.damping, (Rayleigh, ModalDamping)):
+            raise ParameterError(f"Rotor {self.name!r}: damping = {self.damping!r}: expected Rayleigh(alpha, beta), "
+                                 "ModalDamping(ratios=...) or None")
 
     def attached_stations(self):
         return self.stations
@@ -163,6 +166,11 @@ class Rotor(Element):
             seen.append(r.name)
         if self.drive is not None:
             self.drive.check(self, model)
+        if isinstance(self.damping, ModalDamping):
+            others = [r.name for r in model.rotors.values() if isinstance(r.damping, ModalDamping)]
+            if len(others) > 1:
+                raise TopologyError(f"Rotors {others} each have ModalDamping: the modes are the model's, so give "
+                                    "ModalDamping(ratios=...) to one rotor only")
 
     def explain(self, model, problem, coordinates):
         stations = list(dict.fromkeys(s for s, axis in coordinates if axis in ("x", "y")))
@@ -181,7 +189,8 @@ class Rotor(Element):
 
     def contribute(self, ctx):
         parts = [terms for terms in (None if self.drive is None else self.drive.contribute(self, ctx),
-                                     None if self.damping is None else rayleigh_terms(self, ctx)) if terms is not None]
+                                     None if not isinstance(self.damping, Rayleigh)
+                                     else rayleigh_terms(self, ctx)) if terms is not None]
         if len(parts) < 2:
             return parts[0] if parts else Terms()
         (a, b), loads = parts, dict(parts[0].loads)
@@ -250,7 +259,7 @@ class Rotor(Element):
 
     def structure(self):
         # the damping's values are parameters: only its presence is structure (absent: the key is unchanged)
-        damping = () if self.damping is None else (("damping", "Rayleigh"),)
+        damping = () if self.damping is None else (("damping", type(self.damping).__name__),)
         if self._law is None:
             base = Element.structure(self)
             return base[:2] + (tuple(v for v in base[2] if v[0] != "damping") + damping,)

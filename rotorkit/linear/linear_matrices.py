@@ -38,7 +38,8 @@ from ..errors import ParameterError
 
 __all__ = ["shaft_edges", "walk_positions", "LinearMatrices", "linear_evaluator", "linear_matrices", "symbolic_linear_evaluator", "element_forces",
            "linear_static_deflection",
-           "frozen_speed_model", "rotor_spin_speeds", "station_positions"]
+           "frozen_speed_model", "rotor_spin_speeds", "station_positions", "modal_damping_spec",
+           "model_modal_damping"]
 
 #: (structure, parameter values, t, free parameters) -> LinearMatrices or None (not linear); a few kept
 _CACHE = {}
@@ -115,6 +116,16 @@ class LinearMatrices:
             start += vrows.size
             out.append(A)
         return tuple(out)
+
+    def with_damping(self, C):
+        """A copy with the constant dense matrix ``C`` (n, n) added to the damping (a modal damping)."""
+        rows, cols = np.nonzero(C)
+        old = self._constant[1]
+        constant = list(self._constant)
+        constant[1] = (np.concatenate([old[0], rows]), np.concatenate([old[1], cols]),
+                       np.concatenate([old[2], C[rows, cols]]))
+        return LinearMatrices(self.n, self.free, constant, self._variable, self._function, self.nonaffine,
+                              self._select)
 
     def __call__(self, **free_values):
         from scipy import sparse
@@ -279,7 +290,7 @@ def symbolic_linear_evaluator(model, t=0.0, values=None, free=()):
     return LinearMatrices(len(qs), tuple(free), constant, variable, namespace["_entries"])
 
 
-def linear_evaluator(model, t=0.0, values=None, free=()):
+def linear_evaluator(model, t=0.0, values=None, free=(), *, modal_damping=True):
     """The :class:`LinearMatrices` of ``model`` with ``free`` parameters left open, or None if it is not linear.
 
     Parameters
@@ -294,21 +305,31 @@ def linear_evaluator(model, t=0.0, values=None, free=()):
         matrices).
     free : tuple of str
         Parameters left open (e.g. ``("R_speed",)``), given at each call.
+    modal_damping : bool
+        True (default): a rotor's :class:`~rotorkit.elements.damping.ModalDamping`
+        is added to ``C`` (built at rest from these values,
+        :func:`model_modal_damping`); False:
+        the matrices of the derived equations only.
     """
     values = model.parameters if values is None else dict(values)
     free = tuple(free)
+    spec = modal_damping_spec(model) if modal_damping else None
     key = (model.structure_key, tuple(sorted((k, float(v)) for k, v in values.items() if k not in free)),
-           float(t), free)
+           float(t), free, spec)
     if key not in _CACHE:
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
-        from ..codegen.linear_cache import linear_module
+        if spec is None:
+            from ..codegen.linear_cache import linear_module
 
-        _CACHE[key] = _from_module(linear_module(model), values, t, free)
+            _CACHE[key] = _from_module(linear_module(model), values, t, free)
+        else:
+            plain = linear_evaluator(model, t, values, free, modal_damping=False)
+            _CACHE[key] = None if plain is None else plain.with_damping(model_modal_damping(model, values, t))
     return _CACHE[key]
 
 
-def linear_matrices(model, t=0.0, values=None):
+def linear_matrices(model, t=0.0, values=None, *, modal_damping=True):
     """``(M, C, K)`` (scipy CSR, SI units) of a linear model at time ``t``, or None if it is not linear.
 
     Parameters
@@ -319,6 +340,9 @@ def linear_matrices(model, t=0.0, values=None):
         Time (s).
     values : dict, optional
         Parameter name -> value (SI), default ``model.parameters``.
+    modal_damping : bool
+        Add a rotor's :class:`~rotorkit.elements.damping.ModalDamping` to ``C``
+        (default), as in :func:`linear_evaluator`.
 
     Returns
     -------
@@ -327,7 +351,7 @@ def linear_matrices(model, t=0.0, values=None):
         speeds, ``K`` the stiffness with any cross-coupled or circulatory
         part, both including speed-dependent bearing coefficients.
     """
-    evaluator = linear_evaluator(model, t, values)
+    evaluator = linear_evaluator(model, t, values, modal_damping=modal_damping)
     return None if evaluator is None else evaluator()
 
 
@@ -571,3 +595,47 @@ def walk_positions(start, edges, positions):
                 reached.append(b)
                 stack.append(b)
     return reached
+
+
+def modal_damping_spec(model):
+    """The :class:`~rotorkit.elements.damping.ModalDamping` of ``model``'s rotors, or None (at most one holds it)."""
+    rotors = getattr(model, "rotors", None) or {}
+    for rotor in rotors.values():  # duck-typed: importing rotorkit.elements here would close an import cycle
+        damping = getattr(rotor, "damping", None)
+        if hasattr(damping, "ratios") and hasattr(damping, "remaining"):
+            return damping
+    return None
+
+
+def model_modal_damping(model, values=None, t=0.0):
+    """The modal damping matrix (n, n) of ``model``'s :class:`~rotorkit.elements.damping.ModalDamping`, or None.
+
+    ``C = M Phi diag(2 zeta_k w_k) Phi^T M`` from the undamped modes
+    (``K_s phi = w^2 M phi``, ``K_s`` the symmetric part of the stiffness,
+    ``Phi^T M Phi = I``) at rest (every rotor speed 0) at the parameter
+    ``values`` (SI, default ``model.parameters``) and time ``t``; mode ``k``
+    gets ``ratios[k]``, further modes ``remaining``, rigid-body modes none
+    (:mod:`rotorkit.linear.modal_damping`). A model whose forces are not
+    linear has no such modes: ParameterError.
+    """
+    from scipy.linalg import eigh
+
+    spec = modal_damping_spec(model)
+    if spec is None:
+        return None
+    values = dict(model.parameters if values is None else values)
+    for name in rotor_spin_speeds(model, t, values):
+        if f"{name}_speed" in values:
+            values[f"{name}_speed"] = 0.0
+    matrices = linear_matrices(model, t, values, modal_damping=False)
+    if matrices is None:
+        raise ParameterError(f"ModalDamping: model {model.name!r} has forces that are not linear (contacts, Hertzian "
+                             "bearings), so it has no undamped modes to damp; expected a linear model (use Rayleigh)")
+    M, _, K = (A.toarray() for A in matrices)
+    w2, Phi = eigh((K + K.T) / 2, M)
+    w = np.sqrt(np.clip(w2, 0.0, None))
+    zeta = np.full(w.size, spec.remaining)
+    k = min(len(spec.ratios), w.size)
+    zeta[:k] = spec.ratios[:k]
+    MPhi = M @ Phi
+    return (MPhi * (2.0 * zeta * w)) @ MPhi.T

@@ -17,10 +17,12 @@ differ from ``zeta_k``.
 
 The matrix is numeric (it depends on every parameter through the modes):
 :func:`modal_damping_matrix` returns it for a model at given parameter
-values, to be added to the damping of a linear analysis
-(:func:`~rotorkit.analysis.modal.modes_from_matrices`); see
-:func:`modal_damped_modes`. It is not (yet) an option of ``Rotor(damping=...)``:
-it does not enter the derived equations nor time simulations.
+values. A model whose rotor has ``damping=ModalDamping(ratios=...)``
+(:class:`~rotorkit.elements.damping.ModalDamping`) gets it in every linear
+analysis: :func:`~rotorkit.linear.linear_matrices.linear_evaluator` adds
+:func:`model_modal_damping` (built at rest from the values of the call) to
+its ``C``. It does not enter the derived equations: time simulations of
+such a model are refused (:func:`refuse_time_run`).
 """
 
 from __future__ import annotations
@@ -30,8 +32,10 @@ import numbers
 import numpy as np
 
 from ..errors import ParameterError
+from .linear_matrices import modal_damping_spec, model_modal_damping
 
-__all__ = ["modal_damping_matrix", "modal_damped_modes", "undamped_modes"]
+__all__ = ["modal_damping_matrix", "modal_damped_modes", "undamped_modes", "modal_damping_spec",
+           "model_modal_damping", "modal_state_term", "refuse_time_run"]
 
 
 def _ratios(ratios, remaining):
@@ -60,7 +64,7 @@ def undamped_modes(model, values=None, t=0.0):
     for name in rotor_spin_speeds(model, t, values):
         if f"{name}_speed" in values:
             values[f"{name}_speed"] = 0.0
-    matrices = linear_matrices(model, t, values)
+    matrices = linear_matrices(model, t, values, modal_damping=False)
     if matrices is None:
         raise ParameterError(f"modal damping: {model.name!r} has forces that are not linear; expected a linear model")
     M, _, K = (A.toarray() for A in matrices)
@@ -109,3 +113,42 @@ def modal_damped_modes(model, ratios, *, remaining=0.0, speed=0.0, values=None, 
             values[f"{name}_speed"] = float(speed)
     M, C, K = (A.toarray() for A in linear_matrices(model, 0.0, values))
     return modes_from_matrices(M, C + C_modal, K, tuple(model.coordinate_names), n_modes=n_modes, speed=float(speed))
+
+
+def refuse_time_run(model, who):
+    """Raise ParameterError if ``model`` holds a ModalDamping (numeric, linear analyses only)."""
+    if modal_damping_spec(model) is not None:
+        raise ParameterError(f"{who}: model {getattr(model, 'name', None)!r} has Rotor(damping=ModalDamping(...)), "
+                             "a numeric damping of the linear analyses only; it is not part of the derived "
+                             "equations, so time runs and linearisations of the compiled system would leave it out. "
+                             "Use Rayleigh(alpha, beta) (Rayleigh.from_damping_ratios) for time simulations, or "
+                             "the linear analyses (rotorkit.linear_model(model).modes(), campbell, "
+                             "unbalance_response, frequency_response)")
+
+
+def modal_state_term(system, t=0.0):
+    """``M^-1 C`` (n, n) of a compiled system's modal damping, to subtract from its state matrix; or None.
+
+    ``C`` is :func:`model_modal_damping` of ``system.model`` at the
+    system's parameter values (speed profiles frozen at ``t``), ``M`` the
+    mass matrix of its linear equations. Used by
+    :func:`~rotorkit.linear.modes.averaged_jacobian`, so that
+    ``natural_frequencies`` of a system matches the linear analyses.
+    """
+    from scipy.linalg import solve
+
+    from .linear_matrices import frozen_speed_model, linear_matrices
+
+    model = system.model
+    if modal_damping_spec(model) is None:
+        return None
+    frozen = frozen_speed_model(model, t)
+    values = dict(frozen.parameters)
+    values.update({k: v for k, v in system.parameters.items() if k in values})
+    C = model_modal_damping(frozen, values, t)
+    M = linear_matrices(frozen, t, values, modal_damping=False)[0].toarray()
+    if C.shape[0] != len(system.coordinate_names):
+        raise ParameterError(f"natural_frequencies: the modal damping of {model.name!r} has {C.shape[0]} coordinates, "
+                             f"the system {len(system.coordinate_names)} (a Drive's spin coordinate); expected a "
+                             "model with constant-speed rotors")
+    return solve(M, C)

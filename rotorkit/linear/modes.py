@@ -156,6 +156,9 @@ def averaged_jacobian(system, *, t=0.0, equilibrium=True, rub_engaged=None, unba
         off = {f"{s.label()}_contact_stiffness": 0.0 for s in stators}
         if any(values[name] != 0.0 for name in off):
             system = system.with_parameters(**off)
+    from .modal_damping import modal_state_term
+
+    modal = modal_state_term(system, t)  # Rotor(damping=ModalDamping(...)): numeric, not in the compiled rhs
     times = sample_times(system, t, int(cage_samples))
     jacobians, per_sample, operating_point, engaged = [], [], None, False
     for ti in times:
@@ -171,6 +174,9 @@ def averaged_jacobian(system, *, t=0.0, equilibrium=True, rub_engaged=None, unba
             target = _engage_rub(system, q, stators, steps)
         engaged = engaged or _rub_is_engaged(target, q, stators)
         A, _ = linearize(target, q, ti, eps=eps, method=method)
+        if modal is not None:
+            A = A.copy()
+            A[n:2 * n, n:2 * n] -= modal
         jacobians.append(A)
         per_sample.append(np.abs(_oscillatory(np.linalg.eigvals(A))))
         if operating_point is None:

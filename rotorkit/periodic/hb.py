@@ -210,6 +210,9 @@ class HarmonicBalance:
     def __init__(self, system, *, speed_parameter, harmonics, subharmonic=1, samples=None):
         if not (hasattr(system, "rhs") and hasattr(system, "jacobian") and hasattr(system, "coordinate_names")):
             raise TypeError(f"HarmonicBalance: expected a compiled rotorkit System, got {type(system).__name__}")
+        from ..linear.modal_damping import refuse_time_run
+
+        refuse_time_run(getattr(system, "model", None), "HarmonicBalance")  # its rhs leaves a ModalDamping out
         self.system = system
         self.harmonics = _check_int(harmonics, "harmonics", 1)
         self.subharmonic = _check_int(subharmonic, "subharmonic", 1)
