@@ -5,6 +5,30 @@ file imports only the modules of the types it holds.
 """
 
 import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the names for static tools (the API docs, type checkers); at run time __getattr__ imports them
+    from .base import Element, Terms
+    from .base_motion import BaseRotation
+    from .beam import BeamSegment
+    from .bearing import BallBearing
+    from .journal_bearing import JournalBearing
+    from .damping import Rayleigh
+    from .linear_bearing import LinearBearing
+    from .maneuver import Maneuver
+    from .masses import Disk, DiskGeometry, LumpedMass
+    from .pedestal import Pedestal
+    from .material import Material
+    from .rotor import Rotor
+    from .rub import RubStator
+    from .shaft import ShaftSegment
+    from .intershaft_rub import IntershaftRub
+    from .drive import Drive
+    from .speed import SpeedProfile
+    from .squeeze_film import SqueezeFilmDamper
+    from .support import ElasticSupport
+    from .tapered import TaperedBeamSegment
+    from .seal import Seal
 
 #: public name -> the submodule defining it, imported on first access
 TYPE_MODULES = {
