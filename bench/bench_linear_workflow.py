@@ -27,6 +27,12 @@ Each task is one fresh ``python`` process doing what a user types, from
 ``load``       ``import rotorkit`` + the model file alone (the fixed part of
                every task above: numpy, pint's registry for the units)
 
+``--pyc`` lets Python keep rotorkit's bytecode (in a temporary
+``PYTHONPYCACHEPREFIX``, filled by the untimed first run of a warm task), as
+an installed package has it (pip compiles the ``.pyc`` files on install);
+without it, an environment with ``PYTHONDONTWRITEBYTECODE=1`` (this
+machine's) compiles every rotorkit module from source in every process.
+
 ``--root DIR`` runs the tasks against the rotorkit of another tree (e.g. an
 older checkout, for a before/after table; tasks that tree cannot run fail).
 
@@ -114,10 +120,13 @@ def _children_cpu():
     return usage.ru_utime + usage.ru_stime
 
 
-def run(task, file, cache, root=ROOT):
-    """(wall s, CPU s) of one fresh process doing ``task``."""
+def run(task, file, cache, root=ROOT, pyc=None):
+    """(wall s, CPU s) of one fresh process doing ``task``; ``pyc``: a folder for Python's bytecode cache."""
     env = dict(os.environ, ROTORKIT_CACHE_DIR=str(cache), PYTHONPATH=str(root), OPENBLAS_NUM_THREADS="1",
                OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    if pyc is not None:  # as an installed package: rotorkit's modules from their .pyc, not compiled again
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        env["PYTHONPYCACHEPREFIX"] = str(pyc)
     with tempfile.TemporaryDirectory(prefix="rotorkit-bench-out-") as out:  # the CLI tasks write there
         cpu0, t0 = _children_cpu(), time.perf_counter()
         # cwd comes first on the child's sys.path: run in the tree whose rotorkit is measured
@@ -135,21 +144,30 @@ def main(argv=None):
     parser.add_argument("--cache", nargs="+", default=["cold", "warm"], choices=("cold", "warm"))
     parser.add_argument("--file", default=str(FILE), help="model file (default examples/compressor.toml)")
     parser.add_argument("--root", default=str(ROOT), help="tree whose rotorkit is run (default this one)")
+    parser.add_argument("--pyc", action="store_true",
+                        help="let Python keep rotorkit's bytecode (.pyc, in a temporary PYTHONPYCACHEPREFIX filled by "
+                             "the untimed first run of a warm task) as an installed package has it; by default the "
+                             "environment decides (PYTHONDONTWRITEBYTECODE=1 compiles every module in every process)")
     args = parser.parse_args(argv)
+    bytecode = ("rotorkit's .pyc kept (--pyc)" if args.pyc else
+                "no .pyc (PYTHONDONTWRITEBYTECODE)" if os.environ.get("PYTHONDONTWRITEBYTECODE") else "")
     print(f"{Path(args.file).name}: fresh process per run, from interpreter start; medians of {args.repeat} "
-          f"(min..max); one BLAS thread; load average before the run: {os.getloadavg()[0]:.2f}")
+          f"(min..max); one BLAS thread; {bytecode + '; ' if bytecode else ''}"
+          f"load average before the run: {os.getloadavg()[0]:.2f}")
     print(f"{'task':<10} {'cache':<5} {'wall s':>7} {'min..max s':>14} {'CPU s':>6} {'min..max s':>14} {'load':>5}")
     with tempfile.TemporaryDirectory(prefix="rotorkit-bench-") as tmp:
         for task in args.tasks:
             for state in args.cache:
                 times = []
+                pyc = Path(tmp) / f"pyc-{state}-{task}" if args.pyc else None
                 if state == "warm":
                     cache = Path(tmp) / f"warm-{task}"
-                    run(task, args.file, cache, args.root)  # fill the cache, not timed
+                    run(task, args.file, cache, args.root, pyc)  # fill the caches, not timed
                 for i in range(args.repeat):
                     if state == "cold":
                         cache = Path(tmp) / f"cold-{task}-{i}"
-                    times.append(run(task, args.file, cache, args.root))
+                        pyc = Path(tmp) / f"pyc-cold-{task}-{i}" if args.pyc else None
+                    times.append(run(task, args.file, cache, args.root, pyc))
                 wall, cpu = [t for t, _ in times], [c for _, c in times]
                 print(f"{task:<10} {state:<5} {statistics.median(wall):>7.2f} {min(wall):>6.2f}..{max(wall):<6.2f} "
                       f"{statistics.median(cpu):>6.2f} {min(cpu):>6.2f}..{max(cpu):<6.2f} "

@@ -350,8 +350,13 @@ class Model:
     @property
     def structure_key(self):
         """Hash of everything the equations' form depends on (not parameter values)."""
+        known = self.__dict__.get("_structure_key")  # elements are frozen: computed once per elements tuple
+        if known is not None and known[0] is self.elements and known[1] == FORMAT_VERSION:
+            return known[2]
         text = repr((FORMAT_VERSION, tuple(e.structure() for e in self.elements)))
-        return hashlib.sha256(text.encode()).hexdigest()[:20]
+        key = hashlib.sha256(text.encode()).hexdigest()[:20]
+        self.__dict__["_structure_key"] = (self.elements, FORMAT_VERSION, key)
+        return key
 
     # -- actions ----------------------------------------------------------
     def equations(self):

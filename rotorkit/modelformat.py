@@ -8,6 +8,7 @@ import dataclasses
 import math
 import numbers
 import re
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
@@ -44,27 +45,46 @@ def _subclasses(cls):
         yield from _subclasses(sub)
 
 
+class _Types(Mapping):
+    """Type name -> class; an element module is imported when its name is first looked up."""
+
+    def __init__(self):
+        from . import elements
+        from .elements.base import Element
+
+        self._elements = elements
+        self._lazy = {n: m for n, m in elements.TYPE_MODULES.items() if n not in ("Element", "Terms")}
+        self._known = {}
+        for cls in _subclasses(Element):  # Element subclasses of rotorkit modules already imported
+            if cls.__module__.startswith("rotorkit.") and dataclasses.is_dataclass(cls) and cls.__name__ not in self._lazy:
+                self._known.setdefault(cls.__name__, cls)
+        self._known.update(_REGISTERED)
+
+    def __getitem__(self, name):
+        if name in self._known:
+            return self._known[name]
+        if name in self._lazy:
+            return getattr(self._elements, name)
+        raise KeyError(name)
+
+    def __iter__(self):
+        return iter(dict.fromkeys([*self._lazy, *self._known]))
+
+    def __len__(self):
+        return len(set(self._lazy) | set(self._known))
+
+
 def element_types():
     """Type name -> class of everything a model file may hold.
 
     These are the dataclasses exported by :mod:`rotorkit.elements` (elements,
     and the values they hold such as materials and tables), every
     :class:`~rotorkit.elements.Element` subclass defined in rotorkit, and
-    the types given to :func:`register_type`.
+    the types given to :func:`register_type`. A read-only mapping: the
+    module of a type is imported when the type is looked up, so reading a
+    file loads only the element modules it uses.
     """
-    from . import elements
-    from .elements.base import Element, Terms
-
-    types = {}
-    for name in getattr(elements, "__all__", ()):
-        obj = getattr(elements, name, None)
-        if isinstance(obj, type) and dataclasses.is_dataclass(obj) and obj not in (Element, Terms):
-            types[obj.__name__] = obj
-    for cls in _subclasses(Element):
-        if cls.__module__.startswith("rotorkit.") and dataclasses.is_dataclass(cls):
-            types.setdefault(cls.__name__, cls)
-    types.update(_REGISTERED)
-    return types
+    return _Types()
 
 
 # -- writing -----------------------------------------------------------------

@@ -290,3 +290,44 @@ def test_the_integration_loop_uses_the_private_cache():
     assert "shared_lock(\"rk_loop\")" in inspect.getsource(rk_numba._compiled_loop)
     rk_numba._compiled_loop()
     assert any((cache.cache_dir() / "shared" / rk_numba.cache_name()).glob("*/*.nbi"))
+
+
+def test_cached_bytecode_runs_only_with_this_users_signature(fresh_cache, tmp_path, monkeypatch):
+    """The generated module's code object is kept marshalled beside rhs.py; planted bytes never run."""
+    import marshal
+
+    run(backend="python")
+    entry = entry_of(fresh_cache)
+    (code_file,) = entry.glob("rhs.*.code")
+    marker = tmp_path / "ran"
+    hostile = marshal.dumps(compile(f"open({str(marker)!r}, 'w').close()\n", "rhs.py", "exec"))
+    genuine = code_file.read_bytes()
+    for planted in (genuine[:64] + hostile,  # this user's signature of other bytes
+                    cache._code_digest(os.urandom(32), "rhs", str(entry / "rhs.py"),
+                                       (entry / "rhs.py").read_text(), hostile) + hostile,  # another key
+                    hostile):  # no signature
+        code_file.write_bytes(planted)
+        forget(monkeypatch)
+        assert run(backend="python") == pytest.approx(EXPECTED)
+        assert not marker.exists()
+        assert code_file.read_bytes() == genuine  # compiled again and rewritten
+    # control: the planted bytes do run when loaded without the check
+    exec(marshal.loads(hostile), {})
+    assert marker.exists()
+
+
+def test_cached_bytecode_of_another_source_is_not_used(tmp_path, monkeypatch):
+    monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path / "cache"))
+    entry = tmp_path / "cache" / "entry"
+    entry.mkdir(parents=True, mode=0o700)
+    first = {}
+    exec(cache.compile_verified("X = 1\n", "m.py", entry, "m"), first)
+    second = {}
+    exec(cache.compile_verified("X = 2\n", "m.py", entry, "m"), second)  # same name, new text: not the old code
+    def no_compile(*args, **kwargs):
+        raise AssertionError("compiled although its signed bytecode is in the entry")
+
+    monkeypatch.setattr(cache, "compile", no_compile, raising=False)
+    again = {}
+    exec(cache.compile_verified("X = 2\n", "m.py", entry, "m"), again)  # now from the file
+    assert (first["X"], second["X"], again["X"]) == (1, 2, 2)

@@ -205,3 +205,29 @@ def test_the_static_deflection_plot_draws_the_rotor_under_the_deflection():
     assert not ax_without.patches
     plt.close(fig)
     plt.close(fig_without)
+
+
+_READ = """
+import sys
+import rotorkit as rk
+model = rk.load_model({path!r})
+print(sorted(m for m in sys.modules if m.startswith("rotorkit.elements.")))
+print(sorted({{m.split(".")[0] for m in sys.modules}} & {{"scipy", "pint", "sympy", "matplotlib", "numba"}}))
+rk.elements.Seal  # noqa: B018 (control: a name of the package imports its module on use)
+print("rotorkit.elements.seal" in sys.modules)
+"""
+
+
+def test_reading_a_model_file_imports_only_the_element_modules_it_uses():
+    """compressor.toml holds beams, disks, linear bearings, a maneuver: no seal, fluid film, rub or taper module."""
+    out = subprocess.run([sys.executable, "-c", _READ.format(path=str(ROOT / "examples" / "compressor.toml"))],
+                         env=dict(os.environ, PYTHONPATH=str(ROOT)), capture_output=True, text=True, cwd=ROOT,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    loaded, heavy, control = out.stdout.strip().splitlines()
+    assert heavy == "[]"  # the model file read with numpy alone
+    for used in ("beam", "masses", "linear_bearing", "material", "rotor", "maneuver"):
+        assert f"'rotorkit.elements.{used}'" in loaded
+    for unused in ("seal", "journal_bearing", "squeeze_film", "tapered", "rub", "intershaft_rub", "bearing"):
+        assert f"'rotorkit.elements.{unused}'" not in loaded
+    assert control == "True"

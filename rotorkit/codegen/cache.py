@@ -53,7 +53,8 @@ from pathlib import Path
 
 from ..files import atomic_write_bytes, atomic_write_text, read_data
 
-__all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "shared_lock", "shared_is_current"]
+__all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "shared_lock", "shared_is_current",
+           "compile_verified"]
 
 FORMAT = "rotorkit-model-cache-2"
 SIGNATURES = "numba.sig.json"
@@ -174,9 +175,56 @@ def _execute(key, source, path=None):
     module.__file__ = str(path) if path else f"<rotorkit generated model {key}>"
     module.__rotorkit_entry__ = Path(path).parent if path else None
     module.__rotorkit_source__ = source  # the verified text (the c back end translates it)
-    exec(compile(source, module.__file__, "exec", dont_inherit=True), module.__dict__)
+    exec(compile_verified(source, module.__file__, module.__rotorkit_entry__, "rhs"), module.__dict__)
     sys.modules[name] = module
     return module
+
+
+def _code_digest(secret, name, filename, source, data):
+    tag = f"{sys.implementation.cache_tag}\0{sys.hexversion}\0{name}\0{filename}\0".encode()
+    return hmac.new(secret, b"rotorkit-code\0" + tag + hashlib.sha256(source.encode("utf-8")).digest() + b"\0" + data,
+                    hashlib.sha256).hexdigest().encode("ascii")
+
+
+def compile_verified(source, filename, entry=None, name="rhs"):
+    """``compile(source, filename, "exec")``, kept as signed bytecode in the cache entry ``entry``.
+
+    ``source`` must be text already verified (or just generated) by this
+    process. Its code object is stored in ``entry/<name>.<python tag>.code``
+    as the HMAC (this user's key) of the Python version, ``name``,
+    ``filename``, the SHA-256 of ``source`` and the marshalled bytes,
+    followed by those bytes; a later process runs the bytes only if that
+    HMAC verifies, so bytecode that rotorkit did not write for this very
+    source is never loaded (it is compiled again and rewritten). Without an
+    entry (a model built in memory) the source is compiled.
+    """
+    if entry is None:
+        return compile(source, filename, "exec", dont_inherit=True)
+    import marshal
+
+    path = Path(entry) / f"{name}.{sys.implementation.cache_tag}.code"
+    try:
+        secret = secret_key()
+    except OSError:
+        return compile(source, filename, "exec", dont_inherit=True)
+    try:
+        blob = read_data(path, what="cache entry")
+        signature, data = blob[:64], blob[64:]
+        if hmac.compare_digest(signature, _code_digest(secret, name, filename, source, data)):
+            code = marshal.loads(data)
+            if isinstance(code, types.CodeType):
+                return code
+    except (OSError, ValueError, EOFError, TypeError):  # missing, unreadable, damaged
+        pass
+    code = compile(source, filename, "exec", dont_inherit=True)
+    try:
+        if _private(Path(entry)):
+            data = marshal.dumps(code)
+            atomic_write_bytes(path, _code_digest(secret, name, filename, source, data) + data, mode=0o600,
+                               durable=False)
+    except (OSError, ValueError):
+        pass  # compiled again next time
+    return code
 
 
 def _rebuilt_dir(folder):

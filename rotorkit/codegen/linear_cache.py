@@ -275,12 +275,23 @@ def template_function(module, template, selection=None, loads=False):
         body = "".join(f"        ({expressions[i]}),\n" for i in selection)
         namespace = dict(vars(math))
         namespace.update({"max": max, "min": min, "abs": abs})
-        exec(compile(f"def _entries(a, t):\n{head}    return [\n{body}    ]\n", "<rotorkit linear matrices>",
-                     "exec"), namespace)
+        text = f"def _entries(a, t):\n{head}    return [\n{body}    ]\n"
+        exec(_compiled(module, text), namespace)
         function = _FUNCTIONS[key] = namespace["_entries"]
         if len(_FUNCTIONS) > 256:
             _FUNCTIONS.pop(next(iter(_FUNCTIONS)))
     return function
+
+
+def _compiled(module, text):
+    """The code of a template function: from the signed bytecode of the module's cache entry, or compiled."""
+    import hashlib
+
+    from .cache import compile_verified
+
+    entry = getattr(module, "__rotorkit_entry__", None)
+    name = "f" + hashlib.sha256(text.encode("utf-8")).hexdigest()[:24]
+    return compile_verified(text, "<rotorkit linear matrices>", entry, name)
 
 
 def _needed(prelude, expressions):
