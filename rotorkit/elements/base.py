@@ -171,6 +171,8 @@ class Element:
     def __new__(cls, *args, **kwargs):
         """Unknown keywords (``LinearBearing(kzz=...)``) are an error naming the fields, before ``__init__``."""
         fields = getattr(cls, "__dataclass_fields__", None)
+        if fields is not None:  # the init fields (not ClassVars such as structure_matrices)
+            fields = [f.name for f in dataclasses.fields(cls) if f.init]
         unknown = [k for k in kwargs if fields is not None and k not in fields]
         if unknown:
             import difflib
