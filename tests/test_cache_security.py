@@ -10,6 +10,7 @@ import os
 import pickle
 import stat
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -288,8 +289,13 @@ def test_the_integration_loop_uses_the_private_cache():
 
     assert "jit_shared(_rk_loop" in inspect.getsource(rk_numba._build_loop)
     assert "shared_lock(\"rk_loop\")" in inspect.getsource(rk_numba._compiled_loop)
-    rk_numba._compiled_loop()
-    assert any((cache.cache_dir() / "shared" / rk_numba.cache_name()).glob("*/*.nbi"))
+    loop = rk_numba._compiled_loop()
+    # the folder numba keeps the loop in: the cache folder's shared/ of the process's first compile (a test
+    # that ran earlier in this process may have had another ROTORKIT_CACHE_DIR), never next to the source
+    folder = Path(loop._cache._cache_path)
+    assert rk_numba.cache_name() in folder.parts and "shared" in folder.parts
+    assert Path(rk_numba.__file__).parent not in folder.parents
+    assert any(folder.glob("*.nbi"))
 
 
 def test_cached_bytecode_runs_only_with_this_users_signature(fresh_cache, tmp_path, monkeypatch):

@@ -28,7 +28,15 @@ def build_parser():
 
 
 def main(argv=None):
-    """Entry point of the ``rotorkit`` command: returns 0, or 2 on a usage or input error."""
+    """Entry point of the ``rotorkit`` command: returns 0, or 2 on a usage or input error (130 on Ctrl-C)."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:  # also while the commands are still being imported
+        print("rotorkit: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(argv):
     try:
         args = build_parser().parse_args(argv)
     except SystemExit as exit_:  # argparse printed its usage message
@@ -41,6 +49,3 @@ def main(argv=None):
     except RotorkitError as err:
         print(f"rotorkit: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("rotorkit: interrupted", file=sys.stderr)
-        return 130
