@@ -163,7 +163,7 @@ class Evaluator:
             self._module = module = jacobian_module(system.model, getattr(system._module, "CODEGEN", "unrolled"))
             self._loops = {name: _numba_loop(numba_function(module, name)) for name in ("rhs", "jac", "switches")
                            if hasattr(module, name)}
-            self._block = _numba_block_loop(_numba_function(module, "jac"))
+            self._block = _numba_block_loop(numba_function(module, "jac"))
             self._window = np.array(system.prepared_parameters[-2:], dtype=float)
         if self.fast:
             from ..codegen.cmodel import c_functions
