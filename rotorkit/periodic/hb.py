@@ -355,12 +355,27 @@ def _mass_function(model):
 
 
 def _new_mass_function(model):
+    """The constant part of the derived mass matrix (:meth:`EquationsOfMotion.linear_mass_matrix`'s rule) as a
+    function of the parameters, from its non-zero entries only: the dense matrix's expansion and printing cost
+    minutes on a 100-coordinate beam rotor, its few hundred entries seconds."""
     import sympy as sp
 
-    M = model.equations().linear_mass_matrix()
-    symbols = sorted(M.free_symbols, key=str)
+    eqs = model.equations()
+    dynamic = set(eqs.coordinates) | {eqs.t}
+    n = eqs.n
+    rows, cols, entries = [], [], []
+    for (i, j), value in eqs.mass_matrix.todok().items():
+        value = sp.sympify(value)
+        if value.free_symbols & dynamic:  # keep the terms free of q and t, as linear_mass_matrix does
+            value = sp.Add(*[a for a in sp.Add.make_args(sp.expand(value)) if not a.free_symbols & dynamic])
+        if value != 0:
+            rows.append(i)
+            cols.append(j)
+            entries.append(value)
+    symbols = sorted(set().union(*(e.free_symbols for e in entries)), key=str)
     names = [str(s) for s in symbols]
-    f = sp.lambdify(symbols, M, modules="numpy")
+    f = sp.lambdify(symbols, entries, modules="math", cse=True)
+    rows, cols = np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64)
 
     found = {}
 
@@ -369,7 +384,9 @@ def _new_mass_function(model):
         if args not in found:
             if len(found) > 32:
                 found.clear()
-            found[args] = np.array(f(*args), dtype=float)
+            M = np.zeros((n, n))
+            np.add.at(M, (rows, cols), np.array(f(*args), dtype=float))
+            found[args] = M
         return found[args]
 
     return mass
