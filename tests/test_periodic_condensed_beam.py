@@ -47,3 +47,24 @@ def test_condensed_branch_passes_the_former_stall_and_equals_full_harmonic_balan
     scale = np.max(np.abs(full.coefficients))
     assert np.max(np.abs(branch.coefficients[-1] - full.coefficients[0])) < 1e-8 * scale
     assert branch.max_radius(station)[-1] == pytest.approx(full.max_radius(station)[0], rel=1e-8)
+
+
+@pytest.mark.parametrize("speed", [123.0, 310.0, 777.0])
+def test_prepared_parameters_at_a_new_speed_equal_prepare(speed):
+    """The prepared vector at a new speed from the per-branch quadratic in the speed equals ``prepare``."""
+    from rotorkit.periodic.evaluate import Evaluator
+
+    system = beam_rub_rotor(4).compile(backend="c")
+    evaluator = Evaluator(system)
+    got = evaluator.point({"R_speed": speed})
+    assert evaluator._fits and all(fit is not False for fit in evaluator._fits.values())
+    p = np.array([system.parameters[name]
+                  for name in evaluator._module.PARAMETER_NAMES], dtype=float)
+    p[evaluator._index["R_speed"]] = speed
+    want = evaluator._prepare(p)
+    want[-2:] = evaluator._window
+    varying = evaluator._fits[next(iter(evaluator._fits))][1]
+    assert varying.size > 0  # gyroscopic terms depend on the speed
+    finite = np.isfinite(want)
+    assert np.array_equal(finite, np.isfinite(got))
+    assert np.all(np.abs(got[finite] - want[finite]) <= 1e-13 * np.maximum(np.abs(want[finite]), 1.0))
