@@ -43,22 +43,9 @@ def nonlinear_coordinates(model):
 
 
 def _nonlinear_coordinates(model):
-    import sympy as sp
+    from .derived import periodic_module
 
-    eqs = model.equations()
-    qs, us = list(eqs.coordinates), list(eqs.speeds)
-    index = {s: i for i, s in enumerate(qs)}
-    index.update({s: i for i, s in enumerate(us)})
-    states = set(index)
-    found = set()
-    for (i, _), f in eqs.nonlinear_forcing().todok().items():
-        f = sp.sympify(f)
-        used = f.free_symbols & states
-        if any(sp.diff(f, s).free_symbols & states for s in used):
-            found.add(i)
-            found.update(index[s] for s in used)
-    names = tuple(str(q) for q in qs)
-    return tuple(names[i] for i in sorted(found))
+    return tuple(periodic_module(model).NONLINEAR_COORDINATES)
 
 
 class CondensedHarmonicBalance(HarmonicBalance):

@@ -356,26 +356,15 @@ def _mass_function(model):
 
 def _new_mass_function(model):
     """The constant part of the derived mass matrix (:meth:`EquationsOfMotion.linear_mass_matrix`'s rule) as a
-    function of the parameters, from its non-zero entries only: the dense matrix's expansion and printing cost
-    minutes on a 100-coordinate beam rotor, its few hundred entries seconds."""
-    import sympy as sp
+    function of the parameters, from its non-zero entries generated once per structure
+    (:func:`rotorkit.periodic.derived.periodic_module`, cached on disk)."""
+    from .derived import periodic_module
 
-    eqs = model.equations()
-    dynamic = set(eqs.coordinates) | {eqs.t}
-    n = eqs.n
-    rows, cols, entries = [], [], []
-    for (i, j), value in eqs.mass_matrix.todok().items():
-        value = sp.sympify(value)
-        if value.free_symbols & dynamic:  # keep the terms free of q and t, as linear_mass_matrix does
-            value = sp.Add(*[a for a in sp.Add.make_args(sp.expand(value)) if not a.free_symbols & dynamic])
-        if value != 0:
-            rows.append(i)
-            cols.append(j)
-            entries.append(value)
-    symbols = sorted(set().union(*(e.free_symbols for e in entries)), key=str)
-    names = [str(s) for s in symbols]
-    f = sp.lambdify(symbols, entries, modules="math", cse=True)
-    rows, cols = np.array(rows, dtype=np.int64), np.array(cols, dtype=np.int64)
+    module = periodic_module(model)
+    n = module.N_COORDINATES
+    names = module.MASS_NAMES
+    f = module.mass_entries
+    rows, cols = np.array(module.MASS_ROWS, dtype=np.int64), np.array(module.MASS_COLS, dtype=np.int64)
 
     found = {}
 
