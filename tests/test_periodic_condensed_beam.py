@@ -68,3 +68,19 @@ def test_prepared_parameters_at_a_new_speed_equal_prepare(speed):
     finite = np.isfinite(want)
     assert np.array_equal(finite, np.isfinite(got))
     assert np.all(np.abs(got[finite] - want[finite]) <= 1e-13 * np.maximum(np.abs(want[finite]), 1.0))
+
+
+def test_cached_mass_matrix_equals_the_constant_part_of_the_derived_one():
+    """The generated mass entries (periodic.derived) against the symbolic EquationsOfMotion.linear_mass_matrix."""
+    import sympy as sp
+
+    from rotorkit.periodic.hb import HarmonicBalance
+
+    model = beam_rub_rotor(4)
+    hb = HarmonicBalance(model.compile(backend="c"), speed_parameter="R_speed", harmonics=1)
+    M = model.equations().linear_mass_matrix()
+    values = {sp.Symbol(k, real=True): (0.0 if k.endswith("_eccentricity") else v) for k, v in model.parameters.items()}
+    want = np.array(M.xreplace(values).evalf(), dtype=float)
+    got = hb.mass_matrix(model.parameters)
+    assert np.max(np.abs(got - want)) <= 1e-13 * np.max(np.abs(want))
+    assert np.count_nonzero(want) > 0
