@@ -205,10 +205,11 @@ class Evaluator:
         """The prepared vector at ``p`` without ``prepare`` when only one ``*_speed`` parameter changed.
 
         ``prepare`` (the constant mass matrix's inverse, derived parameters) depends on a spin speed only through
-        gyroscopic (linear) and centrifugal (quadratic) terms: per other parameter values, ``prepare`` is run at
-        five speeds once, each entry fitted by a quadratic in the speed on three and checked on the other two
-        (entries equal at all five are copied exactly); if any entry misses the check by more than 1e-12 of its
-        size (a tabulated speed-dependent coefficient), ``prepare`` runs every time. None when not applicable.
+        gyroscopic (linear) and centrifugal (quadratic) terms. Per other parameter values, from the second new
+        speed on, ``prepare`` is run at five speeds once, each entry fitted by a quadratic in the speed on three
+        and checked on the other two (entries equal at all five are copied exactly); if any entry misses the
+        check by more than 1e-12 of its size (a tabulated speed-dependent coefficient), ``prepare`` runs every
+        time. None when not applicable (the first new speed included).
         """
         speeds = getattr(self, "_speed_slots", None)
         if speeds is None:
@@ -221,9 +222,12 @@ class Evaluator:
         slot = changed[0]
         key = (slot, tuple(np.delete(p, slot).tolist()))
         fit = self._fits.get(key)
-        if fit is None:
+        if fit is None:  # the first new speed: prepare alone (a single solution pays no fit)
             if len(self._fits) > 8:
                 self._fits.clear()
+            self._fits[key] = True
+            return None
+        if fit is True:
             fit = self._fits[key] = self._fit(p, slot)
         if fit is False:
             return None
