@@ -1,17 +1,18 @@
 """Harmonic balance condensed onto the coordinates where local nonlinear forces act.
 
-With the full equations ``L z = F + S N(z_c)`` per harmonic (``L`` the exact
-linear dynamic stiffness of :class:`~rotorkit.periodic.hb.HarmonicBalance`,
-``F`` the input forces at rest, ``N`` the nonlinear forces, acting and
-depending only on the contact coordinates ``c`` through ``S``), every
-coordinate is ``z = z_lin + G N`` with ``z_lin = L^-1 F`` and the receptance
-``G = L^-1 S``. The unknowns are the contact coordinates' coefficients and
-the residual is the force balance there,
+With the full equations ``D z = F + N(z_c)`` per harmonic (``D`` the exact
+linear dynamic stiffness ``K - (k w)^2 M + i k w C`` of
+:class:`~rotorkit.periodic.hb.HarmonicBalance`, ``F`` the input forces at
+rest, ``N`` the nonlinear forces, acting and depending only on the contact
+coordinates ``c``), the other coordinates ``i`` follow from the contact ones,
+``z_i = D_ii^-1 (F_i - D_ic z_c)``. The unknowns are the contact
+coordinates' coefficients and the residual is the force balance there,
 
-    R_c = G_cc^-1 (z_c - z_lin,c) - N(z_c)
+    R_c = S z_c - f - N(z_c),   S = D_cc - D_ci D_ii^-1 D_ic,   f = F_c - D_ci D_ii^-1 F_i
 
-(N, exact: no modal truncation). ``G`` comes from one complex LU of the
-dynamic stiffness ``K - (k w)^2 M + i k w C`` per harmonic and parameter
+(N, exact: no modal truncation; ``S`` is the inverse of the receptance
+``G_cc``, formed directly). ``S`` comes from one complex LU of ``D_ii``
+per harmonic and parameter
 value. ``N`` is sampled by AFT as before, with the other coordinates at
 zero: ``M g = M a - M A y`` cancels the linear forces whatever they are, so
 it holds the nonlinear forces and the inputs only. :meth:`expand` gives all
@@ -42,22 +43,9 @@ def nonlinear_coordinates(model):
 
 
 def _nonlinear_coordinates(model):
-    import sympy as sp
+    from .derived import periodic_module
 
-    eqs = model.equations()
-    qs, us = list(eqs.coordinates), list(eqs.speeds)
-    index = {s: i for i, s in enumerate(qs)}
-    index.update({s: i for i, s in enumerate(us)})
-    states = set(index)
-    found = set()
-    for (i, _), f in eqs.nonlinear_forcing().todok().items():
-        f = sp.sympify(f)
-        used = f.free_symbols & states
-        if any(sp.diff(f, s).free_symbols & states for s in used):
-            found.add(i)
-            found.update(index[s] for s in used)
-    names = tuple(str(q) for q in qs)
-    return tuple(names[i] for i in sorted(found))
+    return tuple(periodic_module(model).NONLINEAR_COORDINATES)
 
 
 class CondensedHarmonicBalance(HarmonicBalance):
@@ -81,6 +69,7 @@ class CondensedHarmonicBalance(HarmonicBalance):
                                  if unknown else "condense: the model has no nonlinear force to condense onto")
         self.kept = np.array([self.coordinate_names.index(c) for c in names])
         self.kept_names = names
+        self._others = np.setdiff1d(np.arange(self.n), self.kept)
         self.full = HarmonicBalance(system, speed_parameter=self.speed_parameter, harmonics=self.harmonics,
                                     subharmonic=self.subharmonic, samples=self.samples)
 
@@ -89,38 +78,49 @@ class CondensedHarmonicBalance(HarmonicBalance):
         return len(self.kept) * (2 * self.harmonics + 1)
 
     def _condensation(self, frame):
-        """``(G (full, kept), inverse of G_cc, z_lin)`` of a frame, computed once per frame."""
+        """``(S, f, T, z_i0)`` of a frame, computed once per frame (real coefficient form, module notes).
+
+        ``S`` (H2 nc, H2 nc) is the condensed dynamic stiffness ``D_cc - D_ci D_ii^-1 D_ic`` and ``f``
+        (H2 nc,) the condensed input ``F_c - D_ci D_ii^-1 F_i`` (N), so that ``R_c = S z_c - f - N``;
+        the other coordinates are ``z_i = z_i0 - T z_c``. Forming ``S`` directly (rather than inverting
+        the receptance ``G_cc``) keeps the residual's round-off at that of the forces: the inverse of an
+        inverse carried ``cond(D) eps`` relative errors into the stiffness, a floor near the Newton
+        tolerance on stiff beam models where the corrector then stalled.
+        """
         found = getattr(frame, "_condensed", None)
         if found is not None:
             return found
         n, H, c = self.n, self.harmonics, self.kept
-        nc = len(c)
+        i = self._others
+        nc, ni = len(c), len(i)
         H2 = 2 * H + 1
         w = frame.omega
         F = frame.forcing  # (2H+1, n)
-        G = np.zeros((H2, n, H2, nc))
-        z_lin = np.zeros((H2, n))
+        S = np.zeros((H2, nc, H2, nc))
+        f = np.zeros((H2, nc))
+        T = np.zeros((H2, ni, H2, nc))
+        zi = np.zeros((H2, ni))
         for k in range(H + 1):
             D = frame.stiffness - (k * w) ** 2 * frame.mass + 1j * (k * w) * frame.damping
+            Fk = F[0].astype(complex) if k == 0 else F[2 * k - 1] - 1j * F[2 * k]
             if k == 0:
                 D = D.real
-                rhs = np.hstack([np.eye(n)[:, c], F[0][:, None]])
-                X = np.linalg.solve(D, rhs)
-                G[0, :, 0, :] = X[:, :nc]
-                z_lin[0] = X[:, nc]
+                Fk = Fk.real
+            X = np.linalg.solve(D[np.ix_(i, i)], np.hstack([D[np.ix_(i, c)], Fk[i, None]])) if ni else \
+                np.zeros((0, nc + 1), dtype=D.dtype)
+            Sk = D[np.ix_(c, c)] - D[np.ix_(c, i)] @ X[:, :nc]
+            fk = Fk[c] - D[np.ix_(c, i)] @ X[:, nc]
+            if k == 0:
+                S[0, :, 0, :], f[0], T[0, :, 0, :], zi[0] = Sk, fk, X[:, :nc], X[:, nc]
                 continue
-            Fk = F[2 * k - 1] - 1j * F[2 * k]
-            X = np.linalg.solve(D, np.hstack([np.eye(n)[:, c], Fk[:, None]]).astype(complex))
-            Hr, Hi = X[:, :nc].real, X[:, :nc].imag
             ia, ib = 2 * k - 1, 2 * k
-            # Q = a - i b = H (Fa - i Fb): a = Hr Fa + Hi Fb, b = -Hi Fa + Hr Fb
-            G[ia, :, ia, :], G[ia, :, ib, :] = Hr, Hi
-            G[ib, :, ia, :], G[ib, :, ib, :] = -Hi, Hr
-            z_lin[ia], z_lin[ib] = X[:, nc].real, -X[:, nc].imag
-        G = G.reshape(H2 * n, H2 * nc)
-        rows = (np.arange(H2)[:, None] * n + c[None, :]).ravel()
-        Gcc_inv = np.linalg.inv(G[rows])
-        frame._condensed = (G, Gcc_inv, z_lin.ravel(), rows)
+            # F = S Q with Q = a - i b, F = Fa - i Fb: Fa = Sr a + Si b, Fb = -Si a + Sr b (same for T)
+            for out, M in ((S, Sk), (T, X[:, :nc])):
+                out[ia, :, ia, :], out[ia, :, ib, :] = M.real, M.imag
+                out[ib, :, ia, :], out[ib, :, ib, :] = -M.imag, M.real
+            f[ia], f[ib] = fk.real, -fk.imag
+            zi[ia], zi[ib] = X[:, nc].real, -X[:, nc].imag
+        frame._condensed = (S.reshape(H2 * nc, H2 * nc), f.ravel(), T.reshape(H2 * ni, H2 * nc), zi.ravel())
         return frame._condensed
 
     def _full_states(self, z, frame):
@@ -152,20 +152,23 @@ class CondensedHarmonicBalance(HarmonicBalance):
 
     def residual(self, z, frame, jacobian=True):
         """``(R_c, dR_c/dz_c)`` (N): the force balance at the kept coordinates (module notes)."""
-        G, Gcc_inv, z_lin, rows = self._condensation(frame)
+        S, f, _, _ = self._condensation(frame)
         N, dN = self.nonlinear_forces(z, frame, jacobian)
-        R = Gcc_inv @ (np.asarray(z) - z_lin[rows]) - N
+        R = S @ np.asarray(z) - f - N
         if not np.all(np.isfinite(R)):
             from .errors import ConvergenceError
 
             raise ConvergenceError("the condensed residual is not finite: the iteration diverged")
-        return R, (None if dN is None else Gcc_inv - dN)
+        return R, (None if dN is None else S - dN)
 
     def expand(self, z, frame):
-        """All coordinates' coefficients ``z_lin + G N(z_c)``, shape (n (2H + 1),)."""
-        G, _, z_lin, _ = self._condensation(frame)
-        N, _ = self.nonlinear_forces(z, frame, jacobian=False)
-        return z_lin + G @ N
+        """All coordinates' coefficients: ``z_c`` and ``z_i = z_i0 - T z_c``, shape (n (2H + 1),)."""
+        _, _, T, zi = self._condensation(frame)
+        H2 = 2 * self.harmonics + 1
+        Z = np.empty((H2, self.n))
+        Z[:, self.kept] = np.reshape(z, (H2, -1))
+        Z[:, self._others] = np.reshape(zi - T @ np.asarray(z), (H2, -1))
+        return Z.ravel()
 
     def time_residual(self, z, frame, samples):
         return self.full.time_residual(self.expand(z, frame), frame, samples)

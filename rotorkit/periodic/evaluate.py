@@ -15,6 +15,7 @@ through :meth:`rotorkit.System.with_parameters` and the system's own methods.
 from __future__ import annotations
 
 import ctypes
+import math
 
 import numpy as np
 
@@ -163,7 +164,7 @@ class Evaluator:
             self._module = module = jacobian_module(system.model, getattr(system._module, "CODEGEN", "unrolled"))
             self._loops = {name: _numba_loop(numba_function(module, name)) for name in ("rhs", "jac", "switches")
                            if hasattr(module, name)}
-            self._block = _numba_block_loop(_numba_function(module, "jac"))
+            self._block = _numba_block_loop(numba_function(module, "jac"))
             self._window = np.array(system.prepared_parameters[-2:], dtype=float)
         if self.fast:
             from ..codegen.cmodel import c_functions
@@ -188,11 +189,77 @@ class Evaluator:
         for name, value in values.items():
             if name in self._index:
                 p[self._index[name]] = value
-        with np.errstate(all="ignore"):
-            prepared = module.prepare(p, np.empty(module.N_PREPARED))
-        prepared = np.ascontiguousarray(prepared, dtype=float)
+        prepared = self._speed_polynomial(p)
+        if prepared is None:
+            prepared = self._prepare(p)
         prepared[-2:] = self._window
         return prepared
+
+    def _prepare(self, p):
+        module = self._module
+        with np.errstate(all="ignore"):
+            prepared = module.prepare(p, np.empty(module.N_PREPARED))
+        return np.array(prepared, dtype=float)
+
+    def _speed_polynomial(self, p):
+        """The prepared vector at ``p`` without ``prepare`` when only one ``*_speed`` parameter changed.
+
+        ``prepare`` (the constant mass matrix's inverse, derived parameters) depends on a spin speed only through
+        gyroscopic (linear) and centrifugal (quadratic) terms. Per other parameter values, from the second new
+        speed on, ``prepare`` is run at five speeds once, each entry fitted by a quadratic in the speed on three
+        and checked on the other two (entries equal at all five are copied exactly); if any entry misses the
+        check by more than 1e-12 of its size (a tabulated speed-dependent coefficient), ``prepare`` runs every
+        time. None when not applicable (the first new speed included).
+        """
+        speeds = getattr(self, "_speed_slots", None)
+        if speeds is None:
+            names = self._module.PARAMETER_NAMES
+            speeds = self._speed_slots = [i for i, name in enumerate(names) if name.endswith("_speed")]
+            self._fits = {}
+        changed = [i for i in speeds if p[i] != self._base[i]]
+        if len(changed) != 1:
+            return None
+        slot = changed[0]
+        key = (slot, tuple(np.delete(p, slot).tolist()))
+        fit = self._fits.get(key)
+        if fit is None:  # the first new speed: prepare alone (a single solution pays no fit)
+            if len(self._fits) > 8:
+                self._fits.clear()
+            self._fits[key] = True
+            return None
+        if fit is True:
+            fit = self._fits[key] = self._fit(p, slot)
+        if fit is False:
+            return None
+        constant, varying, coefficients, s0 = fit
+        s = float(p[slot]) / s0
+        prepared = constant.copy()
+        prepared[varying] = coefficients[0] + s * (coefficients[1] + s * coefficients[2])
+        return prepared
+
+    def _fit(self, p, slot):
+        s0 = float(p[slot])
+        if not (math.isfinite(s0) and s0 > 0.0):
+            return False
+        speeds = np.array([1.0, 0.5, 1.5, 0.75, 1.25])  # times s0
+        samples = []
+        for s in speeds:
+            q = p.copy()
+            q[slot] = s * s0
+            samples.append(self._prepare(q))
+        samples = np.array(samples)
+        samples[:, -2:] = 0.0
+        same = np.all((samples == samples[0]) | (np.isnan(samples) & np.isnan(samples[0])), axis=0)
+        varying = np.flatnonzero(~same)
+        if not np.all(np.isfinite(samples[:, varying])):
+            return False
+        V = np.vander(speeds[:3], 3, increasing=True)  # rows (1, s, s^2)
+        coefficients = np.linalg.solve(V, samples[:3, varying])
+        check = np.vander(speeds[3:], 3, increasing=True) @ coefficients
+        size = np.max(np.abs(samples[:, varying]), axis=0) if varying.size else np.zeros(0)
+        if np.any(np.abs(check - samples[3:, varying]) > 1e-12 * size):
+            return False
+        return samples[0].copy(), varying, coefficients, s0
 
     def _jitted(self, name, point, times, Y, *shape):
         times, Y = _rows(times, Y)

@@ -358,12 +358,16 @@ def _mass_function(model):
 
 
 def _new_mass_function(model):
-    import sympy as sp
+    """The constant part of the derived mass matrix (:meth:`EquationsOfMotion.linear_mass_matrix`'s rule) as a
+    function of the parameters, from its non-zero entries generated once per structure
+    (:func:`rotorkit.periodic.derived.periodic_module`, cached on disk)."""
+    from .derived import periodic_module
 
-    M = model.equations().linear_mass_matrix()
-    symbols = sorted(M.free_symbols, key=str)
-    names = [str(s) for s in symbols]
-    f = sp.lambdify(symbols, M, modules="numpy")
+    module = periodic_module(model)
+    n = module.N_COORDINATES
+    names = module.MASS_NAMES
+    f = module.mass_entries
+    rows, cols = np.array(module.MASS_ROWS, dtype=np.int64), np.array(module.MASS_COLS, dtype=np.int64)
 
     found = {}
 
@@ -372,7 +376,9 @@ def _new_mass_function(model):
         if args not in found:
             if len(found) > 32:
                 found.clear()
-            found[args] = np.array(f(*args), dtype=float)
+            M = np.zeros((n, n))
+            np.add.at(M, (rows, cols), np.array(f(*args), dtype=float))
+            found[args] = M
         return found[args]
 
     return mass
