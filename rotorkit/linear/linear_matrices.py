@@ -618,24 +618,42 @@ def model_modal_damping(model, values=None, t=0.0):
     (:mod:`rotorkit.linear.modal_damping`). A model whose forces are not
     linear has no such modes: ParameterError.
     """
-    from scipy.linalg import eigh
-
     spec = modal_damping_spec(model)
     if spec is None:
         return None
+    M, _, w, Phi = undamped_modes(
+        model, values, t, who=f"ModalDamping: model {model.name!r} has forces that are not linear (contacts, Hertzian "
+                              "bearings), so it has no undamped modes to damp; expected a linear model (use Rayleigh)")
+    return modal_damping_from_modes(M, w, Phi, spec.ratios, spec.remaining)
+
+
+def undamped_modes(model, values=None, t=0.0, who=None):
+    """``(M, K_s, w, Phi)``: mass, symmetric stiffness at rest and the undamped modes of ``model``.
+
+    ``w`` (rad/s, ascending, shape (n,)) and ``Phi`` (n, n) mass-normalised
+    (``Phi^T M Phi = I``); every rotor speed set to 0. ``who``: the message
+    of the ParameterError for a model whose forces are not linear.
+    """
+    from scipy.linalg import eigh
+
     values = dict(model.parameters if values is None else values)
     for name in rotor_spin_speeds(model, t, values):
         if f"{name}_speed" in values:
             values[f"{name}_speed"] = 0.0
     matrices = linear_matrices(model, t, values, modal_damping=False)
     if matrices is None:
-        raise ParameterError(f"ModalDamping: model {model.name!r} has forces that are not linear (contacts, Hertzian "
-                             "bearings), so it has no undamped modes to damp; expected a linear model (use Rayleigh)")
+        raise ParameterError(who or f"modal damping: {model.name!r} has forces that are not linear; expected a "
+                                    "linear model")
     M, _, K = (A.toarray() for A in matrices)
-    w2, Phi = eigh((K + K.T) / 2, M)
-    w = np.sqrt(np.clip(w2, 0.0, None))
-    zeta = np.full(w.size, spec.remaining)
-    k = min(len(spec.ratios), w.size)
-    zeta[:k] = spec.ratios[:k]
+    K = (K + K.T) / 2
+    w2, Phi = eigh(K, M)
+    return M, K, np.sqrt(np.clip(w2, 0.0, None)), Phi
+
+
+def modal_damping_from_modes(M, w, Phi, ratios, remaining):
+    """``C = M Phi diag(2 zeta_k w_k) Phi^T M``: mode ``k`` gets ``ratios[k]``, further modes ``remaining``."""
+    zeta = np.full(w.size, float(remaining))
+    k = min(len(ratios), w.size)
+    zeta[:k] = ratios[:k]
     MPhi = M @ Phi
     return (MPhi * (2.0 * zeta * w)) @ MPhi.T

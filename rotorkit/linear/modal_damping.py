@@ -29,10 +29,8 @@ from __future__ import annotations
 
 import numbers
 
-import numpy as np
-
 from ..errors import ParameterError
-from .linear_matrices import modal_damping_spec, model_modal_damping
+from .linear_matrices import modal_damping_from_modes, modal_damping_spec, model_modal_damping, undamped_modes
 
 __all__ = ["modal_damping_matrix", "modal_damped_modes", "undamped_modes", "modal_damping_spec",
            "model_modal_damping", "modal_state_term", "refuse_time_run"]
@@ -48,29 +46,6 @@ def _ratios(ratios, remaining):
             raise ParameterError(f"{name}={z!r} is invalid: expected a damping ratio in [0, 1)")
         out.append(float(z))
     return out[:-1], out[-1]
-
-
-def undamped_modes(model, values=None, t=0.0):
-    """``(M, K_s, w, Phi)``: mass, symmetric stiffness at rest and the undamped modes of ``model``.
-
-    ``w`` (rad/s, ascending, shape (n,)) and ``Phi`` (n, n) mass-normalised
-    (``Phi^T M Phi = I``); every rotor speed set to 0.
-    """
-    from scipy.linalg import eigh
-
-    from .linear_matrices import linear_matrices, rotor_spin_speeds
-
-    values = dict(model.parameters if values is None else values)
-    for name in rotor_spin_speeds(model, t, values):
-        if f"{name}_speed" in values:
-            values[f"{name}_speed"] = 0.0
-    matrices = linear_matrices(model, t, values, modal_damping=False)
-    if matrices is None:
-        raise ParameterError(f"modal damping: {model.name!r} has forces that are not linear; expected a linear model")
-    M, _, K = (A.toarray() for A in matrices)
-    K = (K + K.T) / 2
-    w2, Phi = eigh(K, M)
-    return M, K, np.sqrt(np.clip(w2, 0.0, None)), Phi
 
 
 def modal_damping_matrix(model, ratios, *, remaining=0.0, values=None, t=0.0):
@@ -91,10 +66,7 @@ def modal_damping_matrix(model, ratios, *, remaining=0.0, values=None, t=0.0):
     """
     ratios, remaining = _ratios(ratios, remaining)
     M, _, w, Phi = undamped_modes(model, values, t)
-    zeta = np.full(w.size, remaining)
-    zeta[:min(len(ratios), w.size)] = ratios[:w.size]
-    MPhi = M @ Phi
-    return (MPhi * (2.0 * zeta * w)) @ MPhi.T
+    return modal_damping_from_modes(M, w, Phi, ratios, remaining)
 
 
 def modal_damped_modes(model, ratios, *, remaining=0.0, speed=0.0, values=None, n_modes=None):
