@@ -37,7 +37,7 @@ from .base import Element, Terms
 from .rotor import check_station
 from .squeeze_film import check_film, short_film_forces
 
-__all__ = ["JournalBearing", "BearingOperatingPoint", "short_bearing_eccentricity"]
+__all__ = ["JournalBearing", "BearingOperatingPoint", "short_bearing_eccentricity", "static_load_vector"]
 
 
 def short_bearing_eccentricity(modified_sommerfeld, cavitation="pi"):
@@ -224,7 +224,7 @@ class JournalBearing(Element):
     # -- operating point ------------------------------------------------------
     def sommerfeld_numbers(self, load, speed):
         """``(S, S_s)``: Sommerfeld ``mu N L D (R/c)^2 / W`` and modified ``mu D Omega L^3 / (8 W c^2)``."""
-        w = float(np.hypot(*self._load_vector(load)))
+        w = float(np.hypot(*static_load_vector(load, f"JournalBearing {self.label()!r}")))
         omega = abs(self._speed(speed))
         mu, R, L, c = self.viscosity, self.radius, self.length, self.clearance
         return (mu * omega / (2 * math.pi) * L * 2 * R * (R / c) ** 2 / w, mu * 2 * R * omega * L**3 / (8 * w * c**2))
@@ -248,7 +248,7 @@ class JournalBearing(Element):
         """
         import sympy as sp
 
-        F = self._load_vector(load)
+        F = static_load_vector(load, f"JournalBearing {self.label()!r}")
         omega = self._speed(speed)
         S, Ss = self.sommerfeld_numbers(F, omega)
         eps, phi = short_bearing_eccentricity(Ss, self.cavitation)
@@ -262,18 +262,6 @@ class JournalBearing(Element):
                                      eccentricity_ratio=eps, attitude_angle=phi, position=position,
                                      stiffness=-J[:, :2], damping=-J[:, 2:])
 
-    def _load_vector(self, load):
-        who = f"JournalBearing {self.label()!r}"
-        if isinstance(load, (tuple, list, np.ndarray)):
-            if len(load) != 2:
-                raise ParameterError(f"{who}: load = {load!r}: expected a magnitude (N) or a vector (F_x, F_y) (N)")
-            F = np.array([to_si(v, "N", f"{who} load[{i}]") for i, v in enumerate(load)])
-        else:
-            F = np.array([0.0, -to_si(load, "N", f"{who} load", sign="positive")])
-        if not np.hypot(*F) > 0:
-            raise ParameterError(f"{who}: load = {load!r} is zero: expected a static load to find the equilibrium")
-        return F
-
     def _speed(self, speed):
         who = f"JournalBearing {self.label()!r}"
         if isinstance(speed, numbers.Real) and not isinstance(speed, bool):
@@ -284,3 +272,20 @@ class JournalBearing(Element):
             raise ParameterError(f"{who}: speed = {speed!r}: expected a nonzero spin speed (rad/s): a bearing at "
                                  "rest carries no load")
         return omega
+
+
+def static_load_vector(load, who):
+    """The static load ``(F_x, F_y)`` (N) on a bearing from a magnitude (N, acting in -y) or a vector."""
+    if load is None:
+        raise ParameterError(f"{who}: load is required (N, > 0, or a vector (F_x, F_y))")
+    if isinstance(load, (tuple, list, np.ndarray)):
+        if len(load) != 2:
+            raise ParameterError(f"{who}: load = {load!r}: expected a magnitude (N) or a vector (F_x, F_y) (N)")
+        F = np.array([to_si(v, "N", f"{who} load[{i}]") for i, v in enumerate(load)])
+    else:
+        F = np.array([0.0, -to_si(load, "N", f"{who} load", sign="positive")])
+    if not np.all(np.isfinite(F)):
+        raise ParameterError(f"{who}: load = {load!r}: expected a finite static load (N)")
+    if not np.hypot(*F) > 0:
+        raise ParameterError(f"{who}: load = {load!r} is zero: expected a static load to find the equilibrium")
+    return F

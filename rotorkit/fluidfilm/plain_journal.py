@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..elements.journal_bearing import static_load_vector
 from ..errors import ParameterError
 from ..units import to_si
 from .reynolds import FilmGrid, film_derivatives, solve_film
@@ -172,7 +173,7 @@ class PlainJournalBearing:
         if not self.clearance < self.diameter / 2:
             raise ParameterError(f"{who}: clearance = {self.clearance!r} m: expected less than the radius "
                                  f"{self.diameter / 2!r} m")
-        object.__setattr__(self, "load", tuple(float(v) for v in _load_vector(self.load, who)))  # hashable
+        object.__setattr__(self, "load", tuple(float(v) for v in static_load_vector(self.load, who)))  # hashable
         grooves = []
         for k, groove in enumerate(self.grooves):
             try:
@@ -330,17 +331,3 @@ def _speed(speed):
         raise ParameterError(f"PlainJournalBearing: speed = {speed!r}: expected a spin speed > 0 (rad/s): a bearing "
                              "at rest carries no load")
     return omega
-
-
-def _load_vector(load, who):
-    if load is None:
-        raise ParameterError(f"{who}: load is required (N, > 0, or a vector (F_x, F_y))")
-    if isinstance(load, (tuple, list, np.ndarray)):
-        if len(load) != 2:
-            raise ParameterError(f"{who}: load = {load!r}: expected a magnitude (N) or a vector (F_x, F_y) (N)")
-        F = np.array([to_si(v, "N", f"{who} load[{i}]") for i, v in enumerate(load)])
-    else:
-        F = np.array([0.0, -to_si(load, "N", f"{who} load", sign="positive")])
-    if not (np.all(np.isfinite(F)) and np.hypot(*F) > 0):
-        raise ParameterError(f"{who}: load = {load!r}: expected a nonzero static load (N)")
-    return F
