@@ -31,25 +31,15 @@ def register(sub):
 def parse_operating(text):
     """``"MIN:MAX"`` -> ``(min, max)`` in rad/s; a unit on either bound applies to both."""
     from ..errors import ParameterError
-    from ..units import parse_quantity, to_si
+    from .linear_common import speed_bounds
 
     parts = str(text).split(":")
     if len(parts) != 2:
         raise ParameterError(f"--operating {text!r}: {HINT}")
-    try:
-        given = [parse_quantity(p.strip(), "--operating") for p in parts]
-    except ValueError:
-        raise ParameterError(f"--operating {text!r}: {HINT}") from None
-    units = {str(q.units) for q in given if not isinstance(q, float)}
-    if len(units) > 1:
-        raise ParameterError(f"--operating {text!r}: the two bounds carry different units; give one")
-    unit = next((q.units for q in given if not isinstance(q, float)), None)
-    out = []
-    for q in given:
-        out.append(to_si(q * unit if isinstance(q, float) and unit is not None else q, "rad/s", "--operating"))
-    if not 0 < out[0] <= out[1]:
+    low, high = speed_bounds(parts, "--operating", text, HINT, "the two bounds")
+    if not 0 < low <= high:
         raise ParameterError(f"--operating {text!r}: expected 0 < MIN <= MAX")
-    return tuple(out)
+    return low, high
 
 
 def _list(text):

@@ -82,6 +82,27 @@ def _fast_bounds(texts):
     return None if any(v is None or not math.isfinite(v) for v in values) else values
 
 
+def speed_bounds(parts, option, text, hint, names):
+    """Two speed bounds (texts) in rad/s; a unit on either applies to both (``names``: the bounds, for errors).
+
+    Numbers and the common units are read without pint (:func:`rotorkit.units.fast_si`), others through it.
+    """
+    bounds = _fast_bounds(parts)
+    if bounds is not None:
+        return tuple(bounds)
+    from ..units import parse_quantity
+
+    try:
+        given = [parse_quantity(p.strip(), option) for p in parts]
+    except ValueError:
+        raise ParameterError(f"{option} {text!r}: {hint}") from None
+    units = {str(q.units) for q in given if not isinstance(q, float)}
+    if len(units) > 1:
+        raise ParameterError(f"{option} {text!r}: {names} carry different units; give one")
+    unit = next((q.units for q in given if not isinstance(q, float)), None)
+    return tuple(_speed_bound(p, unit, f"{option} {text!r}") for p in parts)
+
+
 def parse_speeds(text, default_top):
     """``START:STOP:COUNT`` -> COUNT speeds (rad/s); START or STOP may carry a unit (``"0:15000 rpm:31"``).
 
@@ -101,21 +122,7 @@ def parse_speeds(text, default_top):
         count = int(parts[2])
     except ValueError:
         raise ParameterError(f"--speeds {text!r}: {hint}") from None
-    bounds = _fast_bounds(parts[:2])
-    if bounds is not None:
-        start, stop = bounds
-    else:
-        from ..units import parse_quantity
-
-        try:
-            given = [parse_quantity(p.strip(), "--speeds") for p in parts[:2]]
-        except ValueError:
-            raise ParameterError(f"--speeds {text!r}: {hint}") from None
-        units = {str(q.units) for q in given if not isinstance(q, float)}
-        if len(units) > 1:
-            raise ParameterError(f"--speeds {text!r}: START and STOP carry different units; give one")
-        unit = next((q.units for q in given if not isinstance(q, float)), None)
-        start, stop = (_speed_bound(p, unit, f"--speeds {text!r}") for p in parts[:2])
+    start, stop = speed_bounds(parts[:2], "--speeds", text, hint, "START and STOP")
     if not (count >= 2 and stop > start >= 0):
         raise ParameterError(f"--speeds {text!r}: expected 0 <= START < STOP and COUNT >= 2")
     from ..linear.campbell import MAX_SPEEDS
