@@ -50,6 +50,7 @@ the declarations that apply; nothing else in the package changes.
 """
 
 import dataclasses
+import functools
 from dataclasses import dataclass, field
 from typing import ClassVar, Mapping
 
@@ -145,6 +146,13 @@ class QuadraticForm:
         return self._form(self.damping, self.speeds, self.speeds) / 2
 
 
+@functools.cache
+def _init_fields(cls):
+    """Names of the keyword arguments of a dataclass's ``__init__``, in order (not ClassVars such as
+    ``structure_matrices``); once per class."""
+    return tuple(f.name for f in dataclasses.fields(cls) if f.init)
+
+
 @dataclass(frozen=True, slots=True, kw_only=True)
 class Element:
     """Base class of every physical element.
@@ -170,9 +178,7 @@ class Element:
 
     def __new__(cls, *args, **kwargs):
         """Unknown keywords (``LinearBearing(kzz=...)``) are an error naming the fields, before ``__init__``."""
-        fields = getattr(cls, "__dataclass_fields__", None)
-        if fields is not None:  # the init fields (not ClassVars such as structure_matrices)
-            fields = [f.name for f in dataclasses.fields(cls) if f.init]
+        fields = _init_fields(cls) if hasattr(cls, "__dataclass_fields__") else None
         unknown = [k for k in kwargs if fields is not None and k not in fields]
         if unknown:
             import difflib
