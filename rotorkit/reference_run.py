@@ -94,26 +94,8 @@ class Convergence:
 
 
 def compare_with_reference(run, system, result, *, factor=FACTOR, **options):
-    """Repeat the run of ``result`` with tolerances divided by ``factor``; compare the coordinates.
-
-    Parameters
-    ----------
-    run : callable
-        The simulation function, called as :func:`rotorkit.simulate` is.
-    system : rotorkit.System
-        The system ``result`` was computed from.
-    result : rotorkit.Result
-        The run to check (its ``stats`` give method, rtol and atol).
-    factor : float
-        Tolerance ratio (> 1).
-    **options
-        Other arguments of :func:`rotorkit.simulate` the run used (``engine``,
-        ``max_step``, ``bound``, ``contact_events``, ``y0``).
-
-    Returns
-    -------
-    Convergence
-    """
+    """:func:`rotorkit.convergence.check_convergence` (same arguments and result) with ``run`` the simulation
+    function, called as :func:`rotorkit.simulate` is."""
     if not (isinstance(factor, (int, float)) and factor > 1 and np.isfinite(factor)):
         raise ParameterError(f"factor={factor!r} must be a finite number > 1 (e.g. 100)")
     rtol = float(result.stats["rtol"])
