@@ -8,20 +8,21 @@ critical speeds against a support stiffness, with the bearings' ``kxx`` and
 critical speed line the rotor has that critical speed on that bearing).
 :func:`unbalance_checks` runs, for every forward critical speed up to the
 top of the analysis range, the API 617 unbalance response: unbalances of
-``6350 W / N`` g mm placed by the mode shape, the amplification factor of
-the resulting peak and the separation margin it requires.
+``2 x 6350 W / N`` g mm placed by the mode shape
+(:mod:`rotorkit.audit.placement`), the amplification factor of the
+resulting peak and the separation margin it requires, and the amplitudes
+at the probes and the close clearances (:mod:`rotorkit.audit.clearance`).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["bearing_stiffness", "undamped_critical_map", "ModeCheck", "unbalance_checks", "placements"]
+__all__ = ["bearing_stiffness", "undamped_critical_map", "ModeCheck", "unbalance_checks"]
 
 
 def _parameter_vector(module, values):
@@ -115,10 +116,11 @@ class ModeCheck:
         1-based, by critical speed.
     critical_speed : float
         Where the mode crosses the 1x line (rad/s, Campbell diagram).
-    unbalances : tuple of Unbalance
-        The API placement (kg m, rad).
+    placement : Placement
+        The API unbalances (kg m, rad), their ``W`` and the rule applied.
     probe : str
-        Station with the largest peak response (its orbit's major semi-axis).
+        Station with the largest peak response (its orbit's major semi-axis):
+        the amplification factor is read there.
     amplification : AmplificationFactor
         Of that station's response.
     margin : float
@@ -131,11 +133,16 @@ class ModeCheck:
         Speeds of the response (rad/s).
     response : numpy.ndarray
         Major semi-axis (m) at ``probe`` at each speed.
+    amplitude : AmplitudeCheck
+        Peak-to-peak amplitudes at the vibration probes against ``A_vl``
+        and, scaled, at the close clearances.
+    amplitudes : dict
+        Station -> peak-to-peak amplitude (m, major axis) at each speed.
     """
 
     mode: int
     critical_speed: float
-    unbalances: tuple
+    placement: object
     probe: str
     amplification: object
     margin: float
@@ -143,11 +150,23 @@ class ModeCheck:
     above: bool
     speeds: np.ndarray
     response: np.ndarray
+    amplitude: object
+    amplitudes: dict
+
+    @property
+    def unbalances(self):
+        """The API unbalances (tuple of Unbalance)."""
+        return self.placement.unbalances
+
+    @property
+    def margin_passed(self):
+        """Critically damped (``AF < 2.5``) or separated by at least the required margin."""
+        return self.amplification.critically_damped or self.margin >= self.required
 
     @property
     def passed(self):
-        """Critically damped (``AF < 2.5``) or separated by at least the required margin."""
-        return self.amplification.critically_damped or self.margin >= self.required
+        """The separation margin, the probes' amplitude limit and the close clearances met."""
+        return self.margin_passed and self.amplitude.passed
 
 
 def _major_axes(response, stations):
@@ -159,48 +178,9 @@ def _major_axes(response, stations):
     return out
 
 
-def placements(shape, names, stations, positions, journal_loads, bearing_positions, mcs, factor=1.0):
-    """API 617 unbalances for one mode shape.
-
-    One unbalance of ``6350 (sum W) / N`` at the largest displacement when
-    the shape has one lobe; otherwise one at each lobe's largest
-    displacement (lobes smaller than 30 % of the largest ignored), of
-    ``6350 W / N`` with ``W`` the load of the nearest journal, at 0 or 180
-    degrees with the sign of the lobe. ``factor`` multiplies every magnitude.
-    """
-    from ..linear.unbalance import Unbalance
-    from .formulas import unbalance_magnitude
-
-    shape = np.asarray(shape, dtype=complex)
-    k = int(np.argmax(np.abs(shape)))
-    real = (shape * np.exp(-1j * np.angle(shape[k]))).real
-    index = {n: i for i, n in enumerate(names)}
-    xs = np.array([real[index[f"x{s}"]] for s in stations])
-    ys = np.array([real[index[f"y{s}"]] for s in stations])
-    v = xs if np.sum(xs**2) >= np.sum(ys**2) else ys
-    lobes, start = [], 0
-    for i in range(1, len(v) + 1):
-        if i == len(v) or np.sign(v[i]) != np.sign(v[i - 1]) and v[i] != 0:
-            j = start + int(np.argmax(np.abs(v[start:i])))
-            lobes.append(j)
-            start = i
-    big = max(abs(v[j]) for j in lobes)
-    lobes = [j for j in lobes if abs(v[j]) >= 0.3 * big]
-    total = sum(journal_loads.values())
-    if len(lobes) == 1:
-        j = lobes[0]
-        return (Unbalance(station=stations[j], magnitude=factor * unbalance_magnitude(total, mcs), angle=0.0),)
-    out = []
-    for j in lobes:
-        z = positions[stations[j]]
-        nearest = min(bearing_positions, key=lambda label: abs(bearing_positions[label] - z))
-        out.append(Unbalance(station=stations[j], magnitude=factor * unbalance_magnitude(journal_loads[nearest], mcs),
-                             angle=0.0 if v[j] > 0 else math.pi))
-    return tuple(out)
-
-
-def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearings, *, points=241, n_modes=8,
-                     unbalance_factor=1.0):
+def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearings, *, trip_speed=None, probes=None,
+                     close_clearances=None, points=241, n_modes=8, unbalance_multiple=2.0,
+                     scale_factor_limits=(0.5, 6.0)):
     """The API 617 unbalance check of every forward critical speed up to ``top_speed``.
 
     Parameters
@@ -215,13 +195,22 @@ def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearing
         Bearing label -> static load (kg).
     bearings : dict
         Bearing label -> station.
+    trip_speed : float, optional
+        The close clearances are checked up to it (rad/s; default ``top_speed / 1.25``).
+    probes : sequence of str, optional
+        Vibration probe stations (default the bearing stations).
+    close_clearances : dict, optional
+        Station -> minimum diametral running clearance (m).
     points : int
         Speeds of the sweep (a finer grid is added around each critical speed).
     n_modes : int
         Lowest modes computed for the Campbell diagram and the mode shapes.
-    unbalance_factor : float
-        Multiplies ``6350 W / N`` (the amplification factors and margins do
-        not depend on it: the response is linear).
+    unbalance_multiple : float
+        Of ``U_r = 6350 W / N`` (2 by the standard). The amplification
+        factors, margins and scaled close-clearance amplitudes do not depend
+        on it (the response is linear), the probes' amplitudes do.
+    scale_factor_limits : (float, float) or None
+        Bounds of the close-clearance scale factor ``S_cc``.
 
     Returns
     -------
@@ -229,10 +218,13 @@ def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearing
     """
     from ..linear.campbell import campbell
     from ..linear.unbalance import unbalance_response
+    from .clearance import amplitude_check
     from .formulas import amplification_factor, required_separation_margin, separation_margin
+    from .placement import outboard_masses, placements
     from .stability import forward_fraction
 
     low, mcs = operating
+    trip = top_speed / 1.25 if trip_speed is None else float(trip_speed)
     grid = np.linspace(0.02 * top_speed, top_speed, 25)
     diagram = campbell(linear, grid, n_modes=n_modes)
     criticals = sorted(c.speed for c in diagram.crossings if c.whirl != "backward" and c.speed <= top_speed)
@@ -243,25 +235,34 @@ def unbalance_checks(model, linear, operating, top_speed, journal_loads, bearing
     positions = linear.station_positions or {}
     stations = [str(s) for s in model.stations if str(s) in positions and f"x{s}" in linear.coordinate_names]
     bearing_positions = {label: positions[str(s)] for label, s in bearings.items()}
+    outboard = outboard_masses(model, positions, bearing_positions)
+    probes = tuple(dict.fromkeys(str(s) for s in bearings.values())) if probes is None else tuple(probes)
+    watched = sorted(set(stations) | set(probes) | set(close_clearances or {}), key=lambda s: positions.get(s, 0.0))
     checks = []
     for number, nc in enumerate(merged, start=1):
         modes = linear.modes(nc, n_modes=n_modes, left=False)
         fwd = forward_fraction(modes.shapes, modes.coordinate_names)
         candidates = [j for j in range(len(modes)) if fwd[j] > 0.5] or list(range(len(modes)))
         j = min(candidates, key=lambda i: abs(modes.damped_frequencies[i] - nc))
-        unb = placements(modes.shapes[:, j], modes.coordinate_names, stations, positions, journal_loads,
-                         bearing_positions, mcs, unbalance_factor)
+        placement = placements(modes.shapes[:, j], modes.coordinate_names, stations, positions, journal_loads,
+                               bearing_positions, mcs, multiple=unbalance_multiple, outboard=outboard)
         speeds = np.union1d(np.linspace(0.02 * top_speed, top_speed, points),
                             np.linspace(nc / 1.4, min(1.4 * nc, top_speed), points))
-        response = unbalance_response(linear, unb, speeds)
-        majors = _major_axes(response, stations)
+        speeds = np.union1d(speeds, [low, mcs, min(trip, top_speed)])
+        response = unbalance_response(linear, placement.unbalances, speeds)
+        majors = _major_axes(response, watched)
         window = (nc / 1.25, 1.25 * nc)
         best = max(stations, key=lambda s: float(np.max(majors[s][(speeds >= window[0]) & (speeds <= window[1])])))
         af = amplification_factor(speeds, majors[best], window)
         margin, above = separation_margin(af.critical_speed, (low, mcs))
         required = required_separation_margin(af.factor, above)
+        amplitudes = {s: 2.0 * a for s, a in majors.items()}
+        amplitude = amplitude_check(speeds, amplitudes, probes, (low, mcs), trip, mcs, close_clearances,
+                                    scale_factor_limits=scale_factor_limits)
         speeds.setflags(write=False)
-        checks.append(ModeCheck(mode=number, critical_speed=float(nc), unbalances=unb, probe=best, amplification=af,
-                                margin=margin, required=required, above=above, speeds=speeds,
-                                response=majors[best]))
+        for a in amplitudes.values():
+            a.setflags(write=False)
+        checks.append(ModeCheck(mode=number, critical_speed=float(nc), placement=placement, probe=best,
+                                amplification=af, margin=margin, required=required, above=above, speeds=speeds,
+                                response=majors[best], amplitude=amplitude, amplitudes=amplitudes))
     return tuple(checks)

@@ -18,11 +18,29 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["UNBALANCE_CONSTANT", "unbalance_magnitude", "AmplificationFactor", "amplification_factor",
-           "required_separation_margin", "separation_margin", "wachel_cross_coupling", "CRITICALLY_DAMPED_AF"]
+__all__ = ["UNBALANCE_CONSTANT", "UNBALANCE_SPEED_LIMIT_RPM", "ANALYSIS_UNBALANCE_MULTIPLE", "unbalance_magnitude",
+           "analysis_unbalance", "AmplificationFactor", "amplification_factor", "required_separation_margin",
+           "separation_margin", "wachel_cross_coupling", "CRITICALLY_DAMPED_AF", "SEPARATION_MARGIN_CAPS",
+           "vibration_limit", "CLEARANCE_FRACTION", "SCALE_FACTOR_LIMITS", "clearance_scale_factor"]
 
-#: the 6350 of ``U = 6350 W / N`` (g mm, with W in kg and N in rpm): 4 W/N in oz in, the API "4W/N" rule
+#: the 6350 of ``U_r = 6350 W / N`` (g mm, with W in kg and N in rpm): 4 W/N in oz in, the API "4W/N" rule
 UNBALANCE_CONSTANT = 6350.0
+
+#: ``N`` of ``U_r = 6350 W / N`` is the maximum continuous speed, but at most 25000 rpm
+UNBALANCE_SPEED_LIMIT_RPM = 25000.0
+
+#: the unbalance response analysis applies twice the residual unbalance ``U_r`` (API 617 7th ed. 2.6.2.7,
+#: 8th ed. 4.8.2.7, 9th ed. 6.8.2.7; editions before the 7th applied four times ``U_r``)
+ANALYSIS_UNBALANCE_MULTIPLE = 2.0
+
+#: ceilings (percent) of the required separation margin below and above the operating range
+SEPARATION_MARGIN_CAPS = (16.0, 26.0)
+
+#: close-clearance limit: 75 % of the minimum design diametral running clearance
+CLEARANCE_FRACTION = 0.75
+
+#: the scale factor ``S_cc = A_vl / A_max`` is clipped to these bounds
+SCALE_FACTOR_LIMITS = (0.5, 6.0)
 
 #: a mode whose amplification factor is below this is critically damped: no separation margin is required
 CRITICALLY_DAMPED_AF = 2.5
@@ -38,30 +56,51 @@ def _positive(value, unit, name):
 
 
 def unbalance_magnitude(journal_load, max_continuous_speed):
-    """API 617 residual unbalance ``U = 6350 W / N`` (g mm), returned in kg m.
+    """API 617 residual unbalance ``U_r = 6350 W / N`` (g mm), returned in kg m.
 
     Parameters
     ----------
     journal_load : float, str or pint.Quantity
         ``W``: the journal static load as a mass (kg): the sum of the
         journals' loads for a first (translatory) mode, the load of the
-        nearest journal for each unbalance of a higher mode.
+        nearest journal for each unbalance of a higher mode, the mass
+        outboard of the bearing for an overhung end.
     max_continuous_speed : float, str or pint.Quantity
-        ``N``: maximum continuous speed (rad/s, or e.g. ``"10000 rpm"``).
+        ``N``: maximum continuous speed (rad/s, or e.g. ``"10000 rpm"``);
+        above 25000 rpm, 25000 rpm is used
+        (:data:`UNBALANCE_SPEED_LIMIT_RPM`).
 
     Returns
     -------
     float
-        ``U`` in kg m (``1 g mm = 1e-6 kg m``).
+        ``U_r`` in kg m (``1 g mm = 1e-6 kg m``). The unbalance response
+        analysis applies :func:`analysis_unbalance`, twice this.
 
     Examples
     --------
     >>> round(unbalance_magnitude("1000 kg", "10000 rpm") * 1e6, 6)   # g mm: 6350 x 1000 / 10000
     635.0
+    >>> round(unbalance_magnitude("1000 kg", "30000 rpm") * 1e6, 6)   # N held at 25000 rpm
+    254.0
     """
     w = _positive(journal_load, "kg", "journal_load")
     n_rpm = _positive(max_continuous_speed, "rad/s", "max_continuous_speed") * 30.0 / math.pi
-    return UNBALANCE_CONSTANT * w / n_rpm * 1e-6
+    return UNBALANCE_CONSTANT * w / min(n_rpm, UNBALANCE_SPEED_LIMIT_RPM) * 1e-6
+
+
+def analysis_unbalance(journal_load, max_continuous_speed, multiple=ANALYSIS_UNBALANCE_MULTIPLE):
+    """The unbalance of the API 617 response analysis, ``multiple x U_r`` (kg m); ``multiple`` 2 by the standard.
+
+    Examples
+    --------
+    >>> round(analysis_unbalance("1000 kg", "10000 rpm") * 1e6, 6)   # 2 x 6350 x 1000 / 10000 g mm
+    1270.0
+    """
+    m = float(multiple)
+    if not (math.isfinite(m) and m > 0):
+        raise ParameterError(f"multiple={multiple!r} is invalid: expected a positive multiple of U_r "
+                             f"(the standard's is {ANALYSIS_UNBALANCE_MULTIPLE:g})")
+    return m * unbalance_magnitude(journal_load, max_continuous_speed)
 
 
 @dataclass(frozen=True, slots=True)
@@ -172,10 +211,11 @@ def amplification_factor(speeds, amplitude, window=None):
 def required_separation_margin(factor, above):
     """Separation margin (percent) API 617 requires of a mode with amplification factor ``factor``.
 
-    ``AF < 2.5``: none (0). Otherwise ``SM = 17 (1 - 1 / (AF - 1.5))`` for a
-    mode below the minimum operating speed and ``SM = 10 + 17 (1 - 1 / (AF - 1.5))``
-    for one above the maximum continuous speed (API 617 8th ed., 4.8,
-    lateral analysis; API 684).
+    ``AF < 2.5``: none (0). Otherwise ``SM = min(16, 17 (1 - 1 / (AF - 1.5)))``
+    for a mode below the minimum operating speed and
+    ``SM = min(26, 10 + 17 (1 - 1 / (AF - 1.5)))`` for one above the maximum
+    continuous speed (API 617 8th ed. 4.8.2.10; API 684 SP6.8.2.10; the
+    ceilings :data:`SEPARATION_MARGIN_CAPS` bind from ``AF = 18.5``).
 
     Parameters
     ----------
@@ -190,7 +230,65 @@ def required_separation_margin(factor, above):
     if af < CRITICALLY_DAMPED_AF:
         return 0.0
     margin = 17.0 * (1.0 - 1.0 / (af - 1.5))
-    return margin + 10.0 if above else margin
+    below_cap, above_cap = SEPARATION_MARGIN_CAPS
+    return min(margin + 10.0, above_cap) if above else min(margin, below_cap)
+
+
+def vibration_limit(max_continuous_speed):
+    """``A_vl = 25.4 sqrt(12000 / N_mc)`` um peak to peak, at most 25.4 um; returned in m.
+
+    The limit of the unbalance response at the vibration probes within the
+    operating range (API 617 8th ed. 4.8.2.10, 9th ed. 6.8.2.10; the
+    mechanical running test's limit), ``N_mc`` the maximum continuous speed
+    in rpm.
+
+    Examples
+    --------
+    >>> round(vibration_limit("20000 rpm") * 1e6, 4)   # 25.4 sqrt(0.6) um
+    19.6748
+    >>> round(vibration_limit("6000 rpm") * 1e6, 4)    # capped below 12000 rpm
+    25.4
+    """
+    n_rpm = _positive(max_continuous_speed, "rad/s", "max_continuous_speed") * 30.0 / math.pi
+    return 25.4e-6 * min(1.0, math.sqrt(12000.0 / n_rpm))
+
+
+def clearance_scale_factor(limit, max_amplitude, limits=SCALE_FACTOR_LIMITS):
+    """``S_cc = A_vl / A_max`` clipped to ``limits`` (API 617 8th ed. 4.8.2.11).
+
+    The unbalance response at the close clearances is multiplied by it: the
+    rotor is taken to vibrate at the probes as much as the limit allows.
+
+    Parameters
+    ----------
+    limit : float
+        ``A_vl`` (m peak to peak), :func:`vibration_limit`.
+    max_amplitude : float
+        ``A_max``: the largest peak-to-peak amplitude at the probes within
+        the operating range (m).
+    limits : (float, float) or None
+        Bounds of ``S_cc`` (default 0.5 and 6); None: not clipped.
+
+    Examples
+    --------
+    >>> clearance_scale_factor(25.4e-6, 12.7e-6)
+    2.0
+    >>> clearance_scale_factor(25.4e-6, 1e-6)     # 25.4, clipped to 6
+    6.0
+    """
+    a_vl, a_max = float(limit), float(max_amplitude)
+    if not (math.isfinite(a_vl) and a_vl > 0):
+        raise ParameterError(f"limit={limit!r} is invalid: expected A_vl > 0 (m peak to peak)")
+    if not (math.isfinite(a_max) and a_max > 0):
+        raise ParameterError(f"max_amplitude={max_amplitude!r} is invalid: expected the probes' largest "
+                             "amplitude in the operating range, > 0 (m peak to peak)")
+    scc = a_vl / a_max
+    if limits is not None:
+        lo, hi = (float(v) for v in limits)
+        if not 0 < lo <= hi:
+            raise ParameterError(f"limits={limits!r} is invalid: expected (low, high) with 0 < low <= high")
+        scc = min(max(scc, lo), hi)
+    return scc
 
 
 def separation_margin(critical_speed, operating_range):

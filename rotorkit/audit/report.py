@@ -4,7 +4,8 @@
 rotorkit version, the model drawn, the static analysis (journal loads,
 deflection, shear force and bending moment), the undamped critical speed
 map with the bearing curves, the unbalance response of each mode with its
-amplification factor and separation margin, and the Level I stability.
+placement, amplification factor and separation margin, the amplitudes at
+the vibration probes and the close clearances, and the Level I stability.
 Figures are drawn on :class:`matplotlib.figure.Figure` objects of their
 own (pyplot's state is not touched).
 """
@@ -104,6 +105,35 @@ def _mode_figure(audit, check):
     return fig
 
 
+def _amplitude_figure(audit, check):
+    a = check.amplitude
+    rows = 2 if a.clearances else 1
+    fig, axes = _figure(7.0, 3.0 * rows, rows=rows)
+    axes = list(axes) if rows > 1 else [axes]
+    rpm = check.speeds * _RPM
+    low, high = audit.operating
+    for ax in axes:
+        ax.axvspan(low * _RPM, high * _RPM, color="tab:green", alpha=0.15, label="operating range")
+    for i, p in enumerate(a.probes):
+        axes[0].plot(rpm, check.amplitudes[p] * 1e6, color=f"C{i}", label=f"probe st. {p}")
+    axes[0].axhline(a.vibration_limit * 1e6, color="k", ls="--", lw=1.0, label="A_vl")
+    axes[0].set_ylabel("pk-pk (um)")
+    axes[0].set_title(f"mode {check.mode}: amplitude at the probes", fontsize=9)
+    axes[0].legend(fontsize=8)
+    if a.clearances:
+        upto = check.speeds <= audit.trip_speed * (1 + 1e-12)
+        for i, c in enumerate(a.clearances):
+            line, = axes[1].plot(rpm[upto], a.scale_factor * check.amplitudes[c.station][upto] * 1e6, color=f"C{i}",
+                                 label=f"st. {c.station} x S_cc")
+            axes[1].axhline(c.limit * 1e6, color=line.get_color(), ls="--", lw=1.0)
+        axes[1].set_ylabel("scaled pk-pk (um)")
+        axes[1].set_title(f"close clearances (S_cc = {a.scale_factor:.3g}; dashed: 75 % of the clearance)",
+                          fontsize=9)
+        axes[1].legend(fontsize=8)
+    axes[-1].set_xlabel("speed (rpm)")
+    return fig
+
+
 def _stability_figure(audit):
     fig, ax = _figure(7.0, 3.4)
     audit.stability.plot(ax=ax)
@@ -112,6 +142,11 @@ def _stability_figure(audit):
 
 def _fmt(v, digits=4):
     return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:.{digits}g}"
+
+
+def _vibration_limit_text(audit):
+    """``A_vl`` of the audit as text (um)."""
+    return f"{audit.modes[0].amplitude.vibration_limit * 1e6:.3g} um" if audit.modes else "no mode in range"
 
 
 def report_html(audit):
@@ -157,12 +192,19 @@ def report_html(audit):
                  "bearing). Shaded: the operating range.</p>")
     parts.append(_img(_map_figure(audit), "critical speed map"))
     parts.append("<h2>Unbalance response</h2>")
-    parts.append(f"<p>U = 6350 W / N g mm (W journal static load in kg, N = {audit.operating[1] * _RPM:.6g} rpm, "
-                 "the maximum continuous speed), placed at the largest displacement of each mode shape (the sum of "
-                 "the journal loads for a one-lobe mode; the nearest journal's load at each lobe, in phase with the "
-                 "shape, otherwise). Amplification factor AF = N_c1 / (N_2 - N_1) from the half-power points; "
-                 "required separation margin 17 (1 - 1 / (AF - 1.5)) % below and 10 + 17 (1 - 1 / (AF - 1.5)) % "
-                 "above the operating range, none when AF &lt; 2.5.</p>")
+    multiple = audit.inputs.get("unbalance", "")
+    parts.append(f"<p>Unbalance applied: {html.escape(multiple)}. U_r = 6350 W / N g mm is the residual unbalance "
+                 f"(W in kg, N = {audit.operating[1] * _RPM:.6g} rpm, the maximum continuous speed, held at 25000 rpm "
+                 "above it); the analysis applies twice it. Placement from each mode shape (API 617's figure of "
+                 "typical mode shapes and their unbalance locations): the shape is cut at its sign changes into "
+                 "lobes, lobes under 30 % of the largest dropped; one unbalance at each lobe's largest "
+                 "displacement, at 0 or 180 deg with the sign of the lobe (in phase or out of phase). W is the sum "
+                 "of the journal loads for the only lobe between the bearings (mid-span), the nearest journal's "
+                 "load for each of several lobes, and the mass outboard of the bearing for a lobe on an overhung "
+                 "end (a disk outboard of the bearing). Amplification factor AF = N_c1 / (N_2 - N_1) from the "
+                 "half-power points; required separation margin min(16, 17 (1 - 1 / (AF - 1.5))) % below and "
+                 "min(26, 10 + 17 (1 - 1 / (AF - 1.5))) % above the operating range, none when AF &lt; 2.5 "
+                 "(4.8.2.10).</p>")
     rows, flags = [], []
     for c in audit.modes:
         a = c.amplification
@@ -170,14 +212,41 @@ def report_html(audit):
                         for u in c.unbalances)
         rows.append((c.mode, f"{a.critical_speed * _RPM:.0f}", unb, c.probe, f"{a.factor:.3g}",
                      f"{_fmt(a.lower * _RPM, 5)} / {_fmt(a.upper * _RPM, 5)}", f"{c.margin:.1f}",
-                     f"{c.required:.1f}", "pass" if c.passed else "fail"))
-        flags.append(c.passed)
-    parts.append(_table(["mode", "peak (rpm)", "unbalance", "probe", "AF", "N1 / N2 (rpm)", "margin (%)",
-                         "required (%)", "result"], rows, flags))
+                     f"{c.required:.1f}", "pass" if c.margin_passed else "fail"))
+        flags.append(c.margin_passed)
+    parts.append(_table(["mode", "peak (rpm)", "unbalance", "largest response at", "AF", "N1 / N2 (rpm)",
+                         "margin (%)", "required (%)", "result"], rows, flags))
     if not audit.modes:
         parts.append("<p>No forward critical speed below 125 % of the trip speed.</p>")
     for c in audit.modes:
+        parts.append(f"<p>Mode {c.mode} placement: {html.escape(c.placement.rule)}.</p>")
         parts.append(_img(_mode_figure(audit, c), f"unbalance response of mode {c.mode}"))
+    parts.append("<h2>Amplitudes at the probes and close clearances</h2>")
+    parts.append("<p>With each mode's unbalance applied: the peak-to-peak amplitude at the vibration probes within "
+                 "the operating range, A_max, must be below A_vl = 25.4 sqrt(12000 / N_mc) um (at most 25.4 um; "
+                 f"here {_vibration_limit_text(audit)}); the peak-to-peak amplitude at each close clearance from zero "
+                 "to the trip speed, multiplied by S_cc = A_vl / A_max (held within "
+                 f"{html.escape(audit.inputs.get('scale factor bounds', ''))}), must be below 75 % of the minimum "
+                 "design diametral running clearance (API 617 8th ed. 4.8.2.10 and 4.8.2.11). Amplitudes on the "
+                 "orbit's major axis (the largest a probe of any orientation reads).</p>")
+    rows, flags = [], []
+    for c in audit.modes:
+        a = c.amplitude
+        rows.append((c.mode, "probes " + ", ".join(a.probes), f"A_max = {a.max_amplitude * 1e6:.3g} um at st. "
+                     f"{a.probe}, {a.speed * _RPM:.0f} rpm", f"< A_vl = {a.vibration_limit * 1e6:.3g} um",
+                     "pass" if a.probes_passed else "fail"))
+        flags.append(a.probes_passed)
+        for k in a.clearances:
+            rows.append((c.mode, f"clearance st. {k.station} ({k.clearance * 1e6:.4g} um)",
+                         f"{k.amplitude * 1e6:.3g} um at {k.speed * _RPM:.0f} rpm (S_cc = {a.scale_factor:.3g})",
+                         f"< {k.limit * 1e6:.4g} um", "pass" if k.passed else "fail"))
+            flags.append(k.passed)
+    parts.append(_table(["mode", "where", "amplitude (pk-pk)", "limit", "result"], rows, flags))
+    if audit.modes and not audit.modes[0].amplitude.clearances:
+        parts.append('<p class="note">No close clearance given: the clearance check was not run '
+                     "(give close_clearances, or --clearance STATION=VALUE).</p>")
+    for c in audit.modes:
+        parts.append(_img(_amplitude_figure(audit, c), f"amplitudes of mode {c.mode}"))
     s = audit.stability
     parts.append("<h2>Level I stability</h2>")
     where = html.escape(", ".join(s.stations))
@@ -195,8 +264,9 @@ def report_html(audit):
                           f"{s.frequencies[0] * _RPM:.0f}", "pass" if s.passed else "Level II required")],
                         [s.passed]))
     parts.append(_img(_stability_figure(audit), "log decrement against cross-coupling"))
-    parts.append('<p class="note">Not checked here: the response amplitude limits and clearances at the probes, '
-                 "the Level I region chart, Level II analysis.</p>")
+    parts.append('<p class="note">Not checked here: the Level I region chart (critical speed ratio against gas '
+                 "density), Level II analysis, the minimum and maximum bearing clearance cases (run the audit once "
+                 "per bearing table).</p>")
     parts.append("</body></html>")
     return "\n".join(parts)
 

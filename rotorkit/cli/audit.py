@@ -21,8 +21,12 @@ def register(sub):
     p.add_argument("--density-ratio", default="1", help="Wachel Q_A: discharge / suction gas density per impeller, "
                                                        "comma-separated (default 1)")
     p.add_argument("--stage-factor", default="3", help="Wachel B_c: 3 centrifugal (default), 1.5 axial")
-    p.add_argument("--unbalance-factor", type=float, default=1.0,
-                   help="multiple of the unbalance 6350 W/N g mm (default 1; e.g. 2 for twice the residual unbalance)")
+    p.add_argument("--unbalance-multiple", type=float, default=None,
+                   help="multiple of the residual unbalance U_r = 6350 W/N g mm applied (default 2, as API 617 asks)")
+    p.add_argument("--probes", help="vibration probe stations, comma-separated (default: the bearing stations)")
+    p.add_argument("--clearance", action="append", default=[], metavar="STATION=CLEARANCE",
+                   help="a close clearance (seal): station and minimum diametral running clearance, m unless a unit "
+                        "is given, e.g. '6=0.4 mm'; repeat for each")
     p.add_argument("--stations", help="stations of the applied cross-coupling, comma-separated (default mid-span)")
     p.add_argument("--speed-parameter", help="rotor speed swept, e.g. R_speed (default: the first rotor's)")
     p.set_defaults(func=main)
@@ -53,6 +57,19 @@ def _number_or_text(text):
         return text
 
 
+def parse_clearances(items):
+    """``["6=0.4 mm", ...]`` -> ``{"6": "0.4 mm", ...}`` (values as numbers where they are numbers)."""
+    from ..errors import ParameterError
+
+    out = {}
+    for item in items:
+        station, sep, value = str(item).partition("=")
+        if not sep or not station.strip() or not value.strip():
+            raise ParameterError(f"--clearance {item!r}: expected STATION=CLEARANCE, e.g. '6=0.4 mm'")
+        out[station.strip()] = _number_or_text(value.strip())
+    return out
+
+
 def main(args):
     from ..audit.run import api617_audit
     from ..errors import ParameterError
@@ -75,11 +92,13 @@ def main(args):
     if (args.qa is None) == (wachel is None):
         raise ParameterError("give the anticipated cross-coupling: --qa Q_A (e.g. '1.5 MN/m'), or the Wachel inputs "
                              "--power, --impeller-diameter, --restrictive-width (and --density-ratio)")
+    clearances = parse_clearances(args.clearance) or None
     _, model, _ = load_preset(args)
     audit = api617_audit(model, operating, q_a=None if args.qa is None else _number_or_text(args.qa), wachel=wachel,
                          trip_speed=None if args.trip is None else _number_or_text(args.trip),
                          cross_coupling_stations=None if args.stations is None else _list(args.stations),
-                         speed_parameter=args.speed_parameter, unbalance_factor=args.unbalance_factor)
+                         speed_parameter=args.speed_parameter, unbalance_multiple=args.unbalance_multiple,
+                         probes=None if args.probes is None else _list(args.probes), close_clearances=clearances)
     out = output_folder(args, "audit")
     audit.write_csv(out)
     path = audit.write_report(out / "report.html")
