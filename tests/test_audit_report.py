@@ -34,7 +34,8 @@ def report(tmp_path_factory):
     out = tmp_path_factory.mktemp("audit")
     run = _audit("examples/compressor.toml", "--operating", "8000:10500 rpm", "--out", str(out),
                  "--power", "1.5 MW,1.5 MW,1.4 MW,1.3 MW", "--impeller-diameter", "480 mm,460 mm,440 mm,420 mm",
-                 "--restrictive-width", "25 mm,25 mm,24 mm,22 mm", "--density-ratio", "1.2,1.2,1.15,1.15")
+                 "--restrictive-width", "25 mm,25 mm,24 mm,22 mm", "--density-ratio", "1.2,1.2,1.15,1.15",
+                 "--clearance", "6=0.4 mm", "--clearance", "16=0.35 mm")
     assert run.returncode == 0, run.stderr
     return out, run.stdout
 
@@ -45,7 +46,8 @@ def test_audit_writes_a_self_contained_report(report):
 
     out, stdout = report
     assert "API 617 audit:" in stdout
-    for name in ("report.html", "modes.csv", "stability.csv", "shear_moment.csv", "critical_map.csv"):
+    for name in ("report.html", "modes.csv", "stability.csv", "shear_moment.csv", "critical_map.csv",
+                 "unbalances.csv", "clearances.csv"):
         assert (out / name).stat().st_size > 0
     text = (out / "report.html").read_text(encoding="utf-8")
     assert text.startswith("<!DOCTYPE html>") and text.rstrip().endswith("</html>")
@@ -55,8 +57,13 @@ def test_audit_writes_a_self_contained_report(report):
     images = re.findall(r'src="data:image/png;base64,([A-Za-z0-9+/=]+)"', text)
     assert len(images) >= 6  # rotor, deflection, shear/moment, map, a mode, stability
     for heading in ("Summary", "Inputs", "Model", "Static analysis", "Undamped critical speed map",
-                    "Unbalance response", "Level I stability"):
+                    "Unbalance response", "Amplitudes at the probes and close clearances", "Level I stability"):
         assert f"<h2>{heading}</h2>" in text
+    # the new checks: the unbalance multiple named, the placement rule, the probe limit, the clearances
+    assert "2 x U_r (API 617 8th ed. 4.8.2.7: 2 x U_r)" in text
+    assert "placement: one lobe" in text
+    assert "A_vl = 25.4 um" in text and "clearance st. 6 (400 um)" in text and "clearance st. 16 (350 um)" in text
+    assert "probe amplitude" in stdout and "close clearance at st. 16" in stdout
     assert f"rotorkit {rotorkit.__version__}" in text
     assert ("PASS" in text) or ("FAIL" in text)
 
@@ -68,6 +75,10 @@ def test_audit_csv_agrees_with_the_summary(report):
     q = np.array([float(r.split(",")[0]) for r in rows[1:]])
     assert q[0] == 0.0 and np.all(np.diff(q) > 0)
     assert (out / "modes.csv").read_text().count("\n") >= 2   # a header and at least one mode in range
+    rows = (out / "clearances.csv").read_text().splitlines()
+    assert rows[0].startswith("mode,station,diametral_clearance_m")
+    stations = {r.split(",")[1]: float(r.split(",")[2]) for r in rows[1:]}
+    assert stations["6"] == pytest.approx(0.4e-3) and stations["16"] == pytest.approx(0.35e-3)
 
 
 def _render(page, tmp_path):
@@ -114,6 +125,10 @@ def test_report_renders_in_headless_chromium(report, tmp_path):
     (["--operating", "8000 rpm:1000 Hz"], "different units"),
     (["--operating", "8000:10500 rpm"], "--qa"),
     (["--operating", "8000:10500 rpm", "--power", "1 MW"], "--impeller-diameter"),
+    (["--operating", "8000:10500 rpm", "--qa", "1e6", "--clearance", "6"], "STATION=CLEARANCE"),
+    (["--operating", "8000:10500 rpm", "--qa", "1e6", "--clearance", "6=-0.4 mm"], "close_clearances['6']"),
+    (["--operating", "8000:10500 rpm", "--qa", "1e6", "--clearance", "60=0.4 mm"], "station '60' unknown"),
+    (["--operating", "8000:10500 rpm", "--qa", "1e6", "--probes", "3,99"], "['99'] unknown"),
 ])
 def test_bad_audit_arguments_are_named(args, match):
     import contextlib
@@ -134,7 +149,8 @@ def compressor_audit(report):  # after the command: the model's linear matrices 
     from rotorkit.analysis.api617 import api617_audit
 
     model = load_model(ROOT / "examples" / "compressor.toml")
-    return model, api617_audit(model, ("8000 rpm", "10500 rpm"), q_a="1.5 MN/m")
+    return model, api617_audit(model, ("8000 rpm", "10500 rpm"), q_a="1.5 MN/m",
+                               close_clearances={6: "0.4 mm", "16": 0.35e-3})
 
 
 @pytest.mark.slow
@@ -152,11 +168,29 @@ def test_compressor_audit_inputs_against_the_model_file(compressor_audit):
     assert kxx == pytest.approx(np.interp(speeds, table, [300e6, 340e6, 390e6, 450e6, 520e6]), rel=1e-9)
     speeds, kyy = audit.critical_map.bearing_curves["linearbearing18 kyy"]
     assert kyy == pytest.approx(np.interp(speeds, table, [200e6, 230e6, 270e6, 320e6, 380e6]), rel=1e-9)
-    # the first mode (one lobe) gets one unbalance of 6350 (W1 + W2) / N g mm
+    # the first mode (one lobe, between the bearings) gets one unbalance of 2 x 6350 (W1 + W2) / N g mm
     first = audit.modes[0]
-    assert len(first.unbalances) == 1
+    assert len(first.unbalances) == 1 and first.placement.kinds == ("mid-span",)
     n_rpm = 10500.0
-    assert first.unbalances[0].magnitude == pytest.approx(6350 * mass / n_rpm * 1e-6, rel=1e-9)
+    assert first.unbalances[0].magnitude == pytest.approx(2 * 6350 * mass / n_rpm * 1e-6, rel=1e-9)
+    # ... near mid-span between the bearings (stations 3 and 18 of 20): at one of the middle stations
+    assert first.unbalances[0].station in {"9", "10", "11", "12"}
+    # A_vl at 10500 rpm: 25.4 sqrt(12000 / 10500) = 27.2 um, capped at 25.4 um
+    amp = first.amplitude
+    assert amp.vibration_limit == pytest.approx(25.4e-6) and amp.probes == ("3", "18")
+    # A_max: the largest probe amplitude between 8000 and 10500 rpm, read off the response independently
+    band = (first.speeds >= 8000 * math.pi / 30 * (1 - 1e-9)) & (first.speeds <= 10500 * math.pi / 30 * (1 + 1e-9))
+    assert amp.max_amplitude == pytest.approx(max(first.amplitudes[p][band].max() for p in ("3", "18")))
+    assert amp.probes_passed == (amp.max_amplitude < 25.4e-6)
+    # S_cc = A_vl / A_max within [0.5, 6]; the scaled clearance amplitude against 75 % of the clearance
+    assert amp.scale_factor == pytest.approx(min(6.0, max(0.5, 25.4e-6 / amp.max_amplitude)))
+    trip = audit.trip_speed
+    for check, c in zip(amp.clearances, (0.4e-3, 0.35e-3)):
+        upto = first.speeds <= trip * (1 + 1e-12)
+        assert check.amplitude == pytest.approx(amp.scale_factor * first.amplitudes[check.station][upto].max())
+        assert check.limit == pytest.approx(0.75 * c) and check.passed == (check.amplitude < 0.75 * c)
+    # the pk-pk amplitudes are twice the orbit's major semi-axis (the response drawn for the AF)
+    assert first.amplitudes[first.probe] == pytest.approx(2 * first.response)
     # its peak is where the 1x line meets the mode, below the operating range here
     assert first.amplification.critical_speed < 8000 * math.pi / 30
     # the static loads balance: shear and moment close at the free right end
