@@ -380,3 +380,31 @@ def test_critical_map_of_a_shaft_without_its_bearings():
     assert cmap.speeds[stiff, 0] < pinned
     speeds, kxx = cmap.bearing_curves["linearbearing1 kxx"]
     assert np.allclose(kxx, 3e6) and np.allclose(cmap.bearing_curves["linearbearing3 kyy"][1], 2e6)
+
+
+@pytest.mark.slow  # derives a small beam model (~15-50 s on a loaded machine)
+def test_audit_of_an_overhung_rotor_puts_the_unbalance_on_the_overhung_disk():
+    """A 30 kg disk 0.3 m outboard of the second bearing: its mode peaks at the disk."""
+    from rotorkit import BeamSegment, Disk, LinearBearing, Maneuver, Model, Rotor
+
+    d, rho = 0.06, 7800.0
+    beam = dict(outer_diameter=d, density=rho, youngs_modulus=2.1e11, shear_modulus=8e10)
+    bearing = dict(kxx=5e7, kyy=5e7, cxx=2e3, cyy=2e3)
+    model = Model([Rotor(name="R", stations=(1, 2, 3, 4, 5), speed=0.0),
+                   BeamSegment(start=1, end=2, length=0.25, **beam), BeamSegment(start=2, end=3, length=0.25, **beam),
+                   BeamSegment(start=3, end=4, length=0.15, **beam), BeamSegment(start=4, end=5, length=0.15, **beam),
+                   LinearBearing(station=1, **bearing), LinearBearing(station=3, **bearing),
+                   Disk(station=5, mass=30.0, polar_inertia=0.3, diametral_inertia=0.15),
+                   Maneuver.steady(gravity=9.81)], name="overhung_test")
+    audit = api617_audit(model, ("2000 rpm", "3000 rpm"), q_a=1e4, close_clearances={"4": "0.5 mm"})
+    first = audit.modes[0]
+    # W = the mass outboard of bearing 3: the disk and 0.3 m of shaft, 30 + 7800 pi 0.06^2 / 4 x 0.3 = 36.62 kg
+    w = 30.0 + rho * math.pi * d**2 / 4 * 0.3
+    assert first.placement.kinds == ("overhung",) and first.placement.loads == (pytest.approx(w, rel=1e-9),)
+    # at the disk: 2 x 6350 x 36.62 / 3000 = 155.0 g mm
+    (u,) = first.unbalances
+    assert u.station == "5" and u.magnitude == pytest.approx(2 * 6350 * w / 3000 * 1e-6, rel=1e-9)
+    # probes at the bearings by default; the seal at station 4 checked with S_cc
+    amp = first.amplitude
+    assert amp.probes == ("1", "3") and [c.station for c in amp.clearances] == ["4"]
+    assert amp.clearances[0].limit == pytest.approx(0.375e-3)
