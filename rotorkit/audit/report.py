@@ -116,12 +116,14 @@ def _amplitude_figure(audit, check):
         ax.axvspan(low * _RPM, high * _RPM, color="tab:green", alpha=0.15, label="operating range")
     for i, p in enumerate(a.probes):
         axes[0].plot(rpm, check.amplitudes[p] * 1e6, color=f"C{i}", label=f"probe st. {p}")
-    axes[0].axhline(a.vibration_limit * 1e6, color="k", ls="--", lw=1.0, label="A_vl")
+    axes[0].hlines(a.vibration_limit * 1e6, low * _RPM, high * _RPM, color="k", ls="--", lw=1.0,
+                   label="A_vl (operating range)")
     axes[0].set_ylabel("pk-pk (um)")
     axes[0].set_title(f"mode {check.mode}: amplitude at the probes", fontsize=9)
     axes[0].legend(fontsize=8)
     if a.clearances:
         upto = check.speeds <= audit.trip_speed * (1 + 1e-12)
+        axes[1].axvline(audit.trip_speed * _RPM, color="0.4", lw=0.8, ls=":", label="trip speed")
         for i, c in enumerate(a.clearances):
             line, = axes[1].plot(rpm[upto], a.scale_factor * check.amplitudes[c.station][upto] * 1e6, color=f"C{i}",
                                  label=f"st. {c.station} x S_cc")

@@ -278,7 +278,10 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
         cross_coupling_stations = [min(named, key=lambda s: abs(positions[s] - middle))]
     stations = [str(s) for s in (cross_coupling_stations if isinstance(cross_coupling_stations, (list, tuple))
                                  else [cross_coupling_stations])]
-    probe_list = probe_stations(list(dict.fromkeys(bearings.values())) if probes is None else probe_list, known)
+    lateral = [s for s in known if f"x{s}" in linear.coordinate_names and f"y{s}" in linear.coordinate_names]
+    probe_list = probe_stations(list(dict.fromkeys(bearings.values())) if probes is None else probe_list, lateral)
+    if clearances is not None:
+        clearances = close_clearances_si(clearances, lateral)
     cmap = undamped_critical_map(model, linear, bearings, top)
     modes = unbalance_checks(model, linear, (low, mcs), top, loads, bearings, trip_speed=trip, probes=probe_list,
                              close_clearances=clearances, points=points, unbalance_multiple=float(multiple),
