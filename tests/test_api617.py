@@ -190,6 +190,13 @@ def test_placement_of_a_conical_mode_is_out_of_phase_with_the_nearest_journal_lo
     assert [(u.station, u.angle) for u in q.unbalances] == [("4", 0.0), ("7", math.pi)]
 
 
+def test_placement_on_an_unloaded_journal_takes_the_whole_rotor_weight():
+    v = [-0.2, 0.0, 0.7, 1.0, 0.5, -0.5, -0.95, 0.0, 0.2]
+    p = placements(_shape(v), _NAMES, _STATIONS, _POSITIONS, {"b2": 0.0, "b8": 150.0}, _BEARINGS, 10000 * RPM)
+    # st. 4's nearest journal (b2) carries nothing: W = 0 + 150 kg; st. 7's is b8: 150 kg
+    assert p.loads == (150.0, 150.0) and "b2 carries none" in p.rule
+
+
 def test_placement_on_overhung_ends_uses_the_overhung_mass():
     # a disk outboard of the right bearing (40 kg outboard): the mode peaks at the shaft end
     p = _place([0.0, 0.0, 0.05, 0.1, 0.1, 0.05, 0.0, 0.3, 1.0], outboard=(0.0, 40.0))
@@ -338,6 +345,7 @@ def test_shear_and_moment_of_a_simply_supported_shaft(simply_supported):
     (lambda: close_clearances_si({"5": "3 kg"}, ["4", "5"]), "close_clearances"),              # not a length
     (lambda: probe_stations(["4", "99"], ["4", "5"]), r"probes=.*\['99'\] unknown"),
     (lambda: placements(_shape([1.0] * 9), _NAMES, _STATIONS, _POSITIONS, {}, {}, 1000.0), "journal_loads"),
+    (lambda: _place([0.0] * 9), "no place for an unbalance"),
 ])
 def test_bad_input_is_a_named_error(call, match):
     with pytest.raises(ParameterError, match=match):

@@ -194,7 +194,10 @@ def placements(shape, names, stations, positions, journal_loads, bearing_positio
                 continue
             j = _peak(v, inside)
         peaks.append(j)
-    big = max(abs(v[j]) for j in peaks)
+    big = max((abs(v[j]) for j in peaks), default=0.0)
+    if big <= 0:
+        raise ParameterError("placements: the mode shape does not move the stations between the bearings or on an "
+                             "overhung end: no place for an unbalance")
     lobes = [j for j in peaks if abs(v[j]) >= LOBE_THRESHOLD * big]
     sides = [side(j) for j in lobes]
     only_between = sides == ["between"]
@@ -208,6 +211,8 @@ def placements(shape, names, stations, positions, journal_loads, bearing_positio
             w, kind, text = sum(journal_loads.values()), "mid-span", "sum of the journal loads"
         else:
             w, kind, text = journal_loads[nearest], "between bearings", f"load of the nearest journal ({nearest})"
+            if w <= 0:   # an unloaded journal (an overhung rotor can lift one): the rotor's whole weight instead
+                w, text = sum(journal_loads.values()), f"sum of the journal loads ({nearest} carries none)"
         angle = 0.0 if v[j] > 0 else math.pi
         unbalances.append(Unbalance(station=stations[j], magnitude=analysis_unbalance(w, max_continuous_speed,
                                                                                         multiple), angle=angle))
