@@ -13,7 +13,8 @@ Prints
    flow Q against the printed ones, and each of the eight coefficients' difference in % of the printed entry
    (stiffness in the Databook's rigid-turn convention; k_yx also in % of the largest stiffness, it changes sign
    near eps = 0.7); and how closely the printed stiffness obeys the rigid turn;
-3. medians of one cavitated film solve on a 60 x 20 grid and of ``coefficients`` per speed, with the load average.
+3. medians of one cavitated film solve on a 60 x 20 grid and of ``coefficients`` per speed (72 x 12, and 144 x 12
+   with the Databook's grooves), with the load average.
 """
 
 import math
@@ -162,6 +163,12 @@ def timings(repeats):
     b = PlainJournalBearing(diameter=D, length=0.5 * D, clearance=C, viscosity=MU, load=W)
     wall, cpu = _median_times(lambda: b.coefficients([500.0]), max(3, repeats // 5))
     print(f"   equilibrium + eight coefficients, 72 x 12 grid: {wall * 1e3:.0f} / {cpu * 1e3:.0f} ms per speed")
+    b = PlainJournalBearing(diameter=D, length=0.5 * D, clearance=C, viscosity=MU, load=W, grooves=GROOVES,
+                            n_theta=144, n_z=12)
+    omega = 0.517 * W * 2 * math.pi / (MU * 0.5 * D * D * (D / 2 / C) ** 2)  # the Databook's eps = 0.5 row
+    wall, cpu = _median_times(lambda: b.coefficients([omega]), max(3, repeats // 5))
+    print(f"   the same, two 10 deg grooves, 144 x 12 grid (the Databook comparison): {wall * 1e3:.0f} / {cpu * 1e3:.0f} ms "
+          "per speed")
 
 
 if __name__ == "__main__":
