@@ -12,15 +12,16 @@
   the tolerance (bench/fluidfilm_reynolds.py).
 - ``L/D = 0.5`` and ``1``: Someya (ed.), *Journal-Bearing Databook*, Springer 1989, two-axial-groove bearing,
   tables on pp. 14 (L/D = 0.5) and 17 (L/D = 1), as transcribed in github.com/VictorLier/Tribology,
-  ``Assignment2/Someya.py``; the grooves (ambient pressure) at +-90 degrees from the load, 7.5 degrees wide (an
-  assumption: the transcription does not give the width; 5 and 10 degrees change the agreement by up to 2 %).
+  ``Assignment2/Someya.py``; the grooves (ambient pressure) at +-90 degrees from the load, 10 degrees wide: the
+  width the printed journal friction gives (Couette shear over the land; every printed value within 0.5 %, and
+  7.5 degree grooves miss), with the side flow within 2 % up to eps = 0.4.
   The Databook's stiffness turns the whole film, grooves included, with a tangential journal displacement (its
   tables obey ``K e_t = (W / e) e_perp`` to printed precision, which only a rotationally symmetric film does);
   grooves fixed in the bore anchor the film, so this solver's ``k_yx`` differs from the Databook's by up to 60 %
   at small eccentricity. Compared in the Databook's convention (the tangential column replaced by the rigid
-  turn, the radial column kept): eccentricity ratio and attitude angle at the printed Sommerfeld number,
-  stiffness and damping within 3 and 4 % of the largest printed coefficient (eps < 0.65), 6 and 8 %
-  (eps = 0.8); see docs/fluid-film-bearings.md.
+  turn, the radial column kept), at every printed row: eccentricity ratio and attitude angle at the printed
+  Sommerfeld number, and each of the eight coefficients within a per-entry tolerance (``SOMEYA_TOLERANCE``, with
+  the reasons of the entries that miss printed precision; docs/fluid-film-bearings.md).
 - Grid convergence: doubling the grid changes the results by less than stated tolerances.
 - A Jeffcott rotor on the tabulated LinearBearing has the eigenvalues of ``[[0, I], [-K/m, -C/m]]`` with the
   coefficients at the rotor speed.
@@ -161,9 +162,28 @@ SOMEYA = {
           (0.194, 0.500, 49.1, 2.67, 3.09, -1.00, 1.89, 6.99, 2.00, 2.00, 2.31),
           (0.131, 0.600, 43.8, 3.19, 3.06, -0.553, 1.77, 6.69, 1.82, 1.82, 1.74),
           (0.0828, 0.700, 38.4, 4.16, 3.29, -0.0851, 1.75, 7.07, 2.00, 2.00, 1.59),
-          (0.0469, 0.800, 32.1, 6.10, 3.82, 0.420, 1.74, 8.08, 2.15, 2.15, 1.34)],
-}  # (the L/D = 1, eps = 0.9 row is left out: its printed attitude angle misses the identity below by 2 %)
+          (0.0469, 0.800, 32.1, 6.10, 3.82, 0.420, 1.74, 8.08, 2.15, 2.15, 1.34),
+          (0.0195, 0.900, 25.0, 11.9, 5.28, 1.32, 1.80, 10.1, 2.06, 2.06, 0.916)],
+}
+# the printed side flow Q = q / (R Omega c L) (both ends) and journal friction T = f R / c, at (S, eps):
+# every row of the two tables (pp. 14, 17)
+SOMEYA_FLOW_FRICTION = {
+    0.5: [(5.96, 0.075, 0.0663, 111.5), (4.43, 0.1, 0.0880, 83.0), (2.07, 0.2, 0.170, 39.5), (1.24, 0.3, 0.243, 24.4),
+          (0.798, 0.4, 0.309, 16.4), (0.517, 0.5, 0.366, 11.3), (0.323, 0.6, 0.416, 7.75), (0.187, 0.7, 0.459, 5.13),
+          (0.135, 0.75, 0.478, 4.07), (0.0926, 0.8, 0.496, 3.13), (0.0582, 0.85, 0.510, 2.30),
+          (0.0315, 0.9, 0.524, 1.56), (0.00499, 0.975, 0.543, 0.543)],
+    1.0: [(2.95, 0.05, 0.0351, 55.1), (1.96, 0.075, 0.0523, 36.6), (1.45, 0.1, 0.0692, 27.3), (0.689, 0.2, 0.132, 13.2),
+          (0.424, 0.3, 0.181, 8.41), (0.284, 0.4, 0.220, 5.93), (0.194, 0.5, 0.251, 4.37), (0.131, 0.6, 0.274, 3.26),
+          (0.0828, 0.7, 0.295, 2.39), (0.0469, 0.8, 0.302, 1.69), (0.0195, 0.9, 0.300, 1.04),
+          (0.00866, 0.95, 0.297, 0.684)],
+}
 TO_SOMEYA = np.array([[0.0, -1.0], [1.0, 0.0]])  # (x_s, y_s) = (-y, x): load along -y here
+GROOVES = ((0.0, 10.0), (180.0, 10.0))  # 10 deg wide at +-90 deg from the load: the printed friction says so (below)
+
+
+def someya_bearing(slenderness, n_theta=144, n_z=12):
+    """The Databook's two-axial-groove bearing on a grid whose nodes fall on the groove edges."""
+    return bearing(slenderness, grooves=GROOVES, n_theta=n_theta, n_z=n_z)
 
 
 def tangential_direction(phi):
@@ -183,40 +203,127 @@ def rigid_rotation_stiffness(k, eps, phi):
 
 @pytest.mark.parametrize("slenderness", [0.5, 1.0])
 def test_someya_stiffness_is_the_rigid_turn_of_the_film(slenderness):
-    """The Databook's tangential column is the turn of the whole film, grooves included, to printed precision."""
-    for s, eps, phi, *coefficients in SOMEYA[slenderness]:
+    """The Databook's tangential column is the turn of the whole film, grooves included, to printed precision
+    (all rows but L/D = 1, eps = 0.9, which obeys it with an attitude of 24.0 deg instead of the printed 25.0)."""
+    for s, eps, phi, *coefficients in SOMEYA[slenderness][: 8 if slenderness == 1.0 else 9]:
         k = np.reshape(coefficients[:4], (2, 2))
         k_rigid = rigid_rotation_stiffness(k, eps, math.radians(phi))
         assert np.abs(k - k_rigid).max() < 3e-3 * np.abs(k).max()
+    s, eps, phi, *coefficients = SOMEYA[1.0][8]
+    k = np.reshape(coefficients[:4], (2, 2))
+    assert np.abs(k - rigid_rotation_stiffness(k, eps, math.radians(phi))).max() > 1.5e-2 * np.abs(k).max()
+    assert np.abs(k - rigid_rotation_stiffness(k, eps, math.radians(24.0))).max() < 3e-3 * np.abs(k).max()
 
 
 def test_fixed_grooves_anchor_the_film_so_the_tangential_stiffness_is_not_the_rigid_turn():
     """Grooves fixed in the bore: the film ends at them, a tangential journal displacement does not turn it."""
     omega = speed_for_sommerfeld(1.45, 1.0)
-    table = bearing(1.0, grooves=((0.0, 10.0), (180.0, 10.0)), n_theta=72, n_z=8).coefficients([omega])
+    table = someya_bearing(1.0, n_theta=72, n_z=8).coefficients([omega])
     eps, phi = table.eccentricity_ratio[0], table.attitude_angle[0]
     k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
     along = k @ tangential_direction(phi)
     assert abs(along[0]) > 0.05 / eps and along[1] < 0.6 / eps  # a rigid turn would give (0, 1 / eps)
 
 
+def journal_friction_and_side_flow(b, solution, s, groove_width=10.0):
+    """The Databook's ``T = f R / c`` of the journal and ``Q = q / (R Omega c L)`` (both ends) of a film solution.
+
+    Friction: Couette shear ``mu U / h`` over the whole land (the grooves carry none; full shear also where the
+    film is cavitated), plus the pressure term ``(h / 2) dp / (R dtheta)``: ``T = pi S integral_land dtheta / H +
+    (pi S / 4) (X f_y - Y f_x)`` (its second term is ``eps sin(phi) / 2``). Side flow: ``h^3 / (12 mu) dp/dz`` at
+    the two ends, ``Q = (D / L)^2 / 12 integral H^3 (-dP/dZ)|_{Z=1} dtheta``.
+    """
+    X, Y = solution.position
+    n = 7200
+    theta = (np.arange(n) + 0.5) * 2 * math.pi / n
+    distance = np.min([np.abs((theta - math.radians(c) + math.pi) % (2 * math.pi) - math.pi) for c, _ in GROOVES],
+                      axis=0)
+    land = distance > math.radians(groove_width) / 2
+    H = 1 - X * np.cos(theta) - Y * np.sin(theta)
+    T = math.pi * s * np.sum(1 / H[land]) * 2 * math.pi / n \
+        + math.pi * s / 4 * (X * solution.force[1] - Y * solution.force[0])
+    grid, P = solution.grid, solution.pressure
+    H_nodes = 1 - X * np.cos(grid.theta) - Y * np.sin(grid.theta)
+    dP_dZ = (P[:, -2] - 4 * P[:, -1]) / (2 * grid.dz)  # second-order one-sided, P = 0 at Z = 1
+    slenderness = b.length / b.diameter
+    Q = np.sum(H_nodes**3 * -dP_dZ) * grid.dtheta / (12 * slenderness**2)
+    return T, Q
+
+
 @pytest.mark.parametrize("slenderness", [0.5, 1.0])
-def test_someya_two_axial_groove_bearing(slenderness):
-    """Statics, damping and (the Databook's rigid-turn convention) stiffness against the Databook."""
-    b = bearing(slenderness, grooves=((0.0, 7.5), (180.0, 7.5)), n_theta=96, n_z=12)  # groove edges on nodes
-    for s, eps, phi, *coefficients in (SOMEYA[slenderness][i] for i in (0, 2, 4, 7)):  # eps = 0.1, 0.3, 0.5, 0.8
-        omega = speed_for_sommerfeld(s, slenderness)
-        table = b.coefficients([omega])
-        assert abs(table.eccentricity_ratio[0] - eps) < 0.003
-        assert abs(math.degrees(table.attitude_angle[0]) - phi) < 1.5
-        k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
-        c = TO_SOMEYA @ table.damping[0] @ TO_SOMEYA.T * C * omega / W
-        k = rigid_rotation_stiffness(k, table.eccentricity_ratio[0], table.attitude_angle[0])
-        k_s, c_s = np.reshape(coefficients[:4], (2, 2)), np.reshape(coefficients[4:], (2, 2))
-        tol_k, tol_c = (0.03, 0.04) if eps < 0.65 else (0.06, 0.08)  # of the largest coefficient; see the docs
-        assert np.abs(k - k_s).max() < tol_k * np.abs(k_s).max()
-        assert np.abs(c - c_s).max() < tol_c * np.abs(c_s).max()
-        np.testing.assert_allclose(table.dimensionless()["kxy"], table.stiffness[0][0, 1] * C / W)
+def test_someya_friction_fixes_the_groove_width_and_side_flow_agrees_at_small_eccentricity(slenderness):
+    """Every printed friction ``T`` within 0.5 % with 10 deg grooves (measured: 0.33 % at most; T is the shear
+    over the land, about 1.5 % higher with 7.5 deg grooves); the side flow ``Q`` within 2 % up to eps = 0.4
+    (measured 1.6 %) and above it, up to 15 % (measured 14.5 % at L/D = 1, eps = 0.95) and never below the
+    printed one by more than 1 %: the film here leaks more at high eccentricity (docs/fluid-film-bearings.md)."""
+    b = someya_bearing(slenderness, n_theta=72)
+    for s, eps, q, t in SOMEYA_FLOW_FRICTION[slenderness]:
+        solution = b.equilibrium(speed_for_sommerfeld(s, slenderness))
+        T, Q = journal_friction_and_side_flow(b, solution, s)
+        assert abs(T / t - 1) < 5e-3, (eps, T, t)
+        assert abs(Q / q - 1) < (0.02 if eps <= 0.4 else 0.15) and Q / q > 0.99, (eps, Q, q)
+    # the groove width is what T sees: 7.5 deg grooves miss it by more than 0.8 %
+    narrow = bearing(slenderness, grooves=((0.0, 7.5), (180.0, 7.5)), n_theta=96, n_z=12)
+    for s, eps, q, t in SOMEYA_FLOW_FRICTION[slenderness][2:6]:
+        solution = narrow.equilibrium(speed_for_sommerfeld(s, slenderness))
+        assert journal_friction_and_side_flow(narrow, solution, s, groove_width=7.5)[0] / t - 1 > 8e-3
+
+
+# Per-entry tolerances of the comparison with the Databook, in % of the printed entry ("z": of the largest printed
+# stiffness, for k_yx near its change of sign), each the measured miss on 144 x 12 and 288 x 24 nodes rounded up
+# to 1.5, 3, 5, 8, 12, 15, 20 or 25 %. Reasons (docs/fluid-film-bearings.md, "Someya's Databook", per-entry table):
+#   1.5 %  printed precision (0.05 - 0.5 %) plus this grid's discretisation error (< 1 % against 288 x 24);
+#   A      k_xx (and k_yy) at eps <= 0.3 follow the attitude angle (k_xx ~ (K e_r)_x cos(phi), phi near 80 deg:
+#          1 deg of attitude is 9 % of k_xx); the printed attitude there is 0.8 - 2.6 deg above this one;
+#   D      the damping across the load (b_xy, b_yx, b_yy) at eps >= 0.3: 3 - 18 % below the printed values, which
+#          zig-zag with eps (L/D = 1, b_xy: 2.10, 2.00, 1.82, 2.00, 2.15 at eps 0.4 - 0.8) where these are smooth;
+#   H      all coefficients at eps >= 0.7 (L/D = 1), eps >= 0.8 (L/D = 0.5): 2 - 7 % below; the printed side flow
+#          is below this film's too (by up to 13 %): a different film extent at high eccentricity.
+SOMEYA_TOLERANCE = {  # kxx, kxy, kyx, kyy, bxx, bxy, byx, byy
+    (0.5, 0.1): (12, 1.5, 1.5, 5, 1.5, 1.5, 1.5, 1.5),  # A
+    (0.5, 0.2): (8, 1.5, 1.5, 1.5, 3, 3, 3, 1.5),  # A
+    (0.5, 0.3): (3, 1.5, 1.5, 3, 1.5, 8, 8, 8),  # D
+    (0.5, 0.4): (1.5, 1.5, 3, 3, 1.5, 12, 12, 12),  # D
+    (0.5, 0.5): (1.5, 1.5, 5, 3, 1.5, 8, 8, 8),  # D
+    (0.5, 0.6): (1.5, 3, "z3", 5, 3, 12, 12, 12),  # D
+    (0.5, 0.7): (3, 3, "z3", 5, 8, 20, 20, 20),  # D
+    (0.5, 0.8): (5, 5, "z3", 8, 5, 15, 15, 15),  # H, D
+    (0.5, 0.9): (3, 3, "z1.5", 5, 8, 15, 15, 15),  # H, D
+    (1.0, 0.1): (15, 1.5, 1.5, 12, 1.5, 1.5, 1.5, 1.5),  # A
+    (1.0, 0.2): (20, 3, 5, 5, 5, 5, 5, 1.5),  # A (attitude 2.6 deg off, the row off its neighbours' trend)
+    (1.0, 0.3): (8, 1.5, 1.5, 1.5, 3, 3, 3, 1.5),  # A
+    (1.0, 0.4): (1.5, 1.5, 1.5, 3, 1.5, 8, 5, 8),  # D
+    (1.0, 0.5): (1.5, 1.5, 5, 3, 1.5, 8, 8, 8),  # D
+    (1.0, 0.6): (1.5, 1.5, "z3", 3, 1.5, 1.5, 1.5, 1.5),
+    (1.0, 0.7): (5, 5, "z5", 8, 5, 15, 15, 20),  # H, D
+    (1.0, 0.8): (8, 8, "z5", 12, 12, 25, 25, 25),  # H, D
+    (1.0, 0.9): (12, 8, "z5", 12, 8, 12, 12, 12),  # H, D
+}
+# eccentricity ratio within 0.0025 at the printed S (measured 0.0020; S printed to 3 digits); attitude angle (deg):
+ATTITUDE_TOLERANCE = {(0.5, 0.1): 1.0, (0.5, 0.2): 1.0, (1.0, 0.1): 1.5, (1.0, 0.2): 3.0, (1.0, 0.3): 1.5,
+                      (1.0, 0.9): 1.5}  # others 0.5; L/D = 1, eps = 0.9: printed 25.0, its stiffness says 24.0
+
+
+@pytest.mark.parametrize("slenderness, row", [(ld, i) for ld in (0.5, 1.0) for i in range(9)])
+def test_someya_two_axial_groove_bearing(slenderness, row):
+    """Statics, damping and (the Databook's rigid-turn convention) stiffness against the Databook, entry by
+    entry, with the tolerances above."""
+    s, eps, phi, *coefficients = SOMEYA[slenderness][row]
+    omega = speed_for_sommerfeld(s, slenderness)
+    table = someya_bearing(slenderness).coefficients([omega])
+    assert abs(table.eccentricity_ratio[0] - eps) < 0.0025
+    assert abs(math.degrees(table.attitude_angle[0]) - phi) < ATTITUDE_TOLERANCE.get((slenderness, eps), 0.5)
+    k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
+    c = TO_SOMEYA @ table.damping[0] @ TO_SOMEYA.T * C * omega / W
+    k = rigid_rotation_stiffness(k, table.eccentricity_ratio[0], table.attitude_angle[0])
+    computed, printed = np.concatenate([k.ravel(), c.ravel()]), np.array(coefficients)
+    for name, value, reference, tol in zip(("kxx", "kxy", "kyx", "kyy", "bxx", "bxy", "byx", "byy"), computed,
+                                           printed, SOMEYA_TOLERANCE[slenderness, eps]):
+        scale = abs(reference)
+        if isinstance(tol, str):  # of the largest printed stiffness
+            tol, scale = float(tol[1:]), np.abs(printed[:4]).max()
+        assert abs(value - reference) < tol / 100 * scale, (name, value, reference, tol)
+    np.testing.assert_allclose(table.dimensionless()["kxy"], table.stiffness[0][0, 1] * C / W)
 
 
 def test_grooveless_bearing_is_rotationally_symmetric():
