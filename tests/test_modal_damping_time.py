@@ -219,3 +219,18 @@ def test_nonlinear_model_refuses_at_compile():
                    rk.RubStator(station=1, clearance=1e-4, contact_stiffness=1e7, friction_coefficient=0.1)])
     with pytest.raises(ParameterError, match=r"ModalDamping: .*not linear"):
         model.compile(backend="python")
+
+
+def test_a_driven_rotor_spin_angle_is_not_damped():
+    """A Drive's spin angle is no coordinate of the linear analyses: C couples the lateral coordinates only."""
+    model = Model([Rotor(name="R", stations=(1,), speed=rk.Drive.constant(torque=0.0, initial_speed=50.0),
+                         damping=ModalDamping(ratios=(0.05, 0.05))),
+                   Disk(station=1, mass=M1, radius=0.1), ElasticSupport(station=1, stiffness=K1)])
+    system = model.compile(backend="python")
+    assert system.coordinate_names == ("x1", "y1", "spin1")
+    assert [n for n in system.parameter_names if n.startswith("_modal_c")] == ["_modal_c0_0", "_modal_c0_1",
+                                                                               "_modal_c1_1"]
+    y = system.initial_state(x1_dot=0.2, spin1_dot=50.0)
+    w = math.sqrt(K1 / M1)
+    assert system.rhs(0.0, y)[3] == pytest.approx(-2 * 0.05 * w * 0.2, rel=1e-9)  # -c x' / m, c = 2 zeta m w
+    assert system.rhs(0.0, y)[5] == pytest.approx(0.0, abs=1e-12)  # no torque, no damping on the spin
