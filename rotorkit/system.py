@@ -131,6 +131,11 @@ class System:
         names = tuple(module.PARAMETER_NAMES)[-n:]
         return {**self._values, **runtime_values(model, names, self.coordinate_names)}
 
+    def parameter_vector(self, names):
+        """The values (SI floats, shape (len(names),)) of ``names``: parameters, and the run-time ones of a
+        generated module (a ModalDamping's matrix entries), for a module's ``prepare(p, out)``."""
+        return np.array([self._run_values[n] for n in names], dtype=float)
+
     @property
     def modal_damping(self):
         """Whether the equations hold a rotor's :class:`~rotorkit.elements.damping.ModalDamping` (``-C q'``)."""
@@ -152,7 +157,7 @@ class System:
         parts = self._jacobian_parts
         if "module" not in parts:
             module = jacobian_module(self.model, self._module.CODEGEN)
-            p = np.array([self._run_values[n] for n in module.PARAMETER_NAMES], dtype=float)
+            p = self.parameter_vector(module.PARAMETER_NAMES)
             with np.errstate(all="ignore"):
                 parts["prepared"] = module.prepare(p, np.empty(module.N_PREPARED))
             parts["module"], parts["windows"] = module, {}
