@@ -142,6 +142,7 @@ def test_structured_code_generation_carries_it():
     explicit = chain(rayleigh, support_damping=rayleigh.beta * K1).compile(backend="python")
     y = explicit.initial_state(x1=1e-3, x2_dot=0.3, y2=-2e-4, y1_dot=0.05)
     np.testing.assert_allclose(structured.rhs(0.0, y), explicit.rhs(0.0, y), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(structured.jacobian(0.0, y), explicit.jacobian(0.0, y), rtol=1e-9, atol=1e-9)
 
 
 def test_jacobian_holds_minus_m_inverse_c():
