@@ -93,7 +93,8 @@ class System:
         self.state_names = tuple(module.STATE_NAMES)
         self.coordinate_names = self.state_names[: module.N_COORDINATES]
         self._values = model.parameters
-        p = np.array([self._values[n] for n in self.parameter_names], dtype=float)
+        values = self._run_values = self._with_runtime_values(model, module)
+        p = np.array([values[n] for n in self.parameter_names], dtype=float)
         with np.errstate(all="ignore"):
             prepared = module.prepare(p, np.empty(module.N_PREPARED))
         bad = np.flatnonzero(~np.isfinite(prepared[: len(p) + module.N_DERIVED]))
@@ -106,13 +107,39 @@ class System:
             culprits = sorted({n for k in bad - len(p) for n in module.DERIVED_PARAMETERS[k]})
             raise ParameterError(
                 f"{self.name}: the parameters {', '.join(culprits)} = "
-                f"{', '.join(f'{self._values[n]:g}' for n in culprits)} give non-finite derived values "
+                f"{', '.join(f'{values[n]:g}' for n in culprits)} give non-finite derived values "
                 "(a length or mass too close to zero, or a value too large: a speed or stiffness beyond "
                 "about 1e150 overflows its square)"
             )
         self.prepared_parameters = prepared
         self._plist = prepared.tolist()
         self._jacobian_parts = {}  # shared by the within() copies: same parameters
+
+    def _with_runtime_values(self, model, module):
+        """The parameter values, with those of the run-time parameters a generated module may append.
+
+        Only a model with ``Rotor(damping=ModalDamping(...))`` has any: the
+        entries of its modal damping matrix, computed here once per parameter
+        set (:func:`rotorkit.linear.modal_damping.runtime_values`); for every
+        other model this is ``model.parameters`` itself.
+        """
+        n = getattr(module, "N_MODAL_DAMPING", 0)
+        if not n:
+            return self._values
+        from .linear.modal_damping import runtime_values
+
+        names = tuple(module.PARAMETER_NAMES)[-n:]
+        return {**self._values, **runtime_values(model, names, self.coordinate_names)}
+
+    def parameter_vector(self, names):
+        """The values (SI floats, shape (len(names),)) of ``names``: parameters, and the run-time ones of a
+        generated module (a ModalDamping's matrix entries), for a module's ``prepare(p, out)``."""
+        return np.array([self._run_values[n] for n in names], dtype=float)
+
+    @property
+    def modal_damping(self):
+        """Whether the equations hold a rotor's :class:`~rotorkit.elements.damping.ModalDamping` (``-C q'``)."""
+        return bool(getattr(self._module, "N_MODAL_DAMPING", 0))
 
     @property
     def has_jacobian(self):
@@ -130,7 +157,7 @@ class System:
         parts = self._jacobian_parts
         if "module" not in parts:
             module = jacobian_module(self.model, self._module.CODEGEN)
-            p = np.array([self._values[n] for n in module.PARAMETER_NAMES], dtype=float)
+            p = self.parameter_vector(module.PARAMETER_NAMES)
             with np.errstate(all="ignore"):
                 parts["prepared"] = module.prepare(p, np.empty(module.N_PREPARED))
             parts["module"], parts["windows"] = module, {}
@@ -365,16 +392,31 @@ def _generated(model, mode, jacobian):
     Jacobian's; from this process, else from the disk cache, else generated now and stored there."""
     from .codegen import cache
 
-    key = model.structure_key + ("" if mode == "unrolled" else "_structured") + ("_jac" if jacobian else "")
+    modal = _has_modal_damping(model)
+    key = (model.structure_key + ("_modal" if modal else "") + ("" if mode == "unrolled" else "_structured")
+           + ("_jac" if jacobian else ""))
     module = _MODULES.get(key) or cache.load(key)
     if module is None:
         from .codegen.generate import generate
         from .progress import announce_if_slow
 
         eom = model.equations()
+        n_before = len(eom.parameters)
+        if modal:  # -C q' with C's entries as run-time parameters (System fills them)
+            from .linear.modal_damping import with_modal_damping
+
+            eom = with_modal_damping(eom, model)
         what = (f"the analytic Jacobian of {model.name} (first use" if jacobian
                 else f"code for {model.name} (first use of this model structure")
         with announce_if_slow(f"generating {what}; cached on disk afterwards)"):
-            module = cache.store(key, generate(eom, key, jacobian=jacobian, mode=mode).source)
+            source = generate(eom, key, jacobian=jacobian, mode=mode).source
+            if modal:
+                source += f"N_MODAL_DAMPING = {len(eom.parameters) - n_before}\n"
+            module = cache.store(key, source)
     _MODULES[key] = module
     return module
+
+
+def _has_modal_damping(model):
+    """Whether a rotor of ``model`` holds a ModalDamping (duck-typed, as ``linear_matrices.modal_damping_spec``)."""
+    return any(hasattr(getattr(r, "damping", None), "ratios") for r in model.rotors.values())

@@ -34,8 +34,9 @@ it by setting that class attribute; this module imports no element type.
 
 :class:`ModalDamping` is the other damping spec a rotor takes: damping
 ratios of the model's undamped non-rotating modes, a numeric matrix that
-only the linear analyses add (:mod:`rotorkit.linear.modal_damping`); it
-contributes no terms here.
+the linear analyses add to their damping and the compiled equations take as
+run-time parameters (:mod:`rotorkit.linear.modal_damping`); it contributes
+no terms here.
 
 Source: Rayleigh, *The Theory of Sound* (1877), section 97; Friswell et al.,
 *Dynamics of Rotating Machines* (2010), section 2.5.5 (proportional damping)
@@ -148,7 +149,7 @@ class Rayleigh:
 
 @dataclass(frozen=True, slots=True)
 class ModalDamping:
-    """Modal damping ratios of a model's undamped, non-rotating modes (linear analyses only).
+    """Modal damping ratios of a model's undamped, non-rotating modes.
 
     ``Rotor(..., damping=ModalDamping(ratios=(0.01, 0.02), remaining=0.0))``
     gives the ``k``-th lowest undamped mode of the model at rest (every
@@ -158,9 +159,11 @@ class ModalDamping:
     (:mod:`rotorkit.linear.modal_damping`). The matrix depends on every
     parameter through the modes, so it is numeric: the linear analyses
     (modes, Campbell, unbalance and frequency responses) add it to their
-    damping at the parameter values of the call; it adds no term to the
-    derived equations, and a time simulation of such a model is refused
-    (use :class:`Rayleigh` there). The ratios are part of the spec, not
+    damping at the parameter values of the call, and a compiled system
+    (time simulation, ``natural_frequencies``) holds the force ``-C q'``
+    with ``C``'s entries as run-time parameters, computed once per parameter
+    set (:func:`~rotorkit.linear.modal_damping.with_modal_damping`); it adds
+    no term to the derived equations. The ratios are part of the spec, not
     parameters: change them with ``dataclasses.replace`` (no re-derivation).
     At most one rotor of a model holds it (the modes are the model's).
 

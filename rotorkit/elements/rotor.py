@@ -76,8 +76,8 @@ class Rotor(Element):
         shaft and disks (:mod:`rotorkit.elements.damping`); parameters
         ``<name>_damping_alpha``, ``<name>_damping_beta``. Or
         :class:`~rotorkit.elements.damping.ModalDamping`: damping ratios of
-        the model's undamped non-rotating modes, for the linear analyses only
-        (no parameters; at most one rotor of a model).
+        the model's undamped non-rotating modes, in the linear analyses and
+        time runs (no parameters; at most one rotor of a model).
 
     Examples
     --------

@@ -21,8 +21,20 @@ values. A model whose rotor has ``damping=ModalDamping(ratios=...)``
 (:class:`~rotorkit.elements.damping.ModalDamping`) gets it in every linear
 analysis: :func:`~rotorkit.linear.linear_matrices.linear_evaluator` adds
 :func:`model_modal_damping` (built at rest from the values of the call) to
-its ``C``. It does not enter the derived equations: time simulations of
-such a model are refused (:func:`refuse_time_run`).
+its ``C``.
+
+In time simulation the compiled right-hand side gets the force ``-C q'``
+with ``C``'s entries as *run-time parameters*: :func:`with_modal_damping`
+adds to the equations a symmetric matrix of symbols ``_modal_c<i>_<j>``
+(``i <= j``, indices of the coordinates), appended to the parameters, so the
+code is generated once per structure like every other term; each compiled
+system (:class:`~rotorkit.system.System`, at every parameter set: a sweep
+point, ``with_parameters``) fills their values from
+:func:`runtime_values`, the matrix at its parameter values, at rest, at
+``t = 0``. Every back end and engine (python, numba, c, the compiled
+integration loop, the analytic Jacobian) then runs it as it runs any
+parameter. A model without ModalDamping has no such symbols: its code is
+unchanged.
 """
 
 from __future__ import annotations
@@ -33,7 +45,11 @@ from ..errors import ParameterError
 from .linear_matrices import modal_damping_from_modes, modal_damping_spec, model_modal_damping, undamped_modes
 
 __all__ = ["modal_damping_matrix", "modal_damped_modes", "undamped_modes", "modal_damping_spec",
-           "model_modal_damping", "modal_state_term", "refuse_time_run"]
+           "model_modal_damping", "modal_state_term", "refuse_time_run", "check_time_run", "with_modal_damping",
+           "runtime_values", "RUNTIME_PREFIX"]
+
+#: name prefix of the run-time parameters holding the modal damping matrix: ``_modal_c<i>_<j>`` is ``C[i, j]``
+RUNTIME_PREFIX = "_modal_c"
 
 
 def _ratios(ratios, remaining):
@@ -88,14 +104,94 @@ def modal_damped_modes(model, ratios, *, remaining=0.0, speed=0.0, values=None, 
 
 
 def refuse_time_run(model, who):
-    """Raise ParameterError if ``model`` holds a ModalDamping (numeric, linear analyses only)."""
+    """Raise ParameterError if ``model`` holds a ModalDamping: for runs whose equations do not include it.
+
+    :func:`~rotorkit.simulate.simulate` runs it (:func:`check_time_run`);
+    analyses that evaluate the equations their own way (harmonic balance)
+    call this to refuse such a model by name.
+    """
     if modal_damping_spec(model) is not None:
         raise ParameterError(f"{who}: model {getattr(model, 'name', None)!r} has Rotor(damping=ModalDamping(...)), "
-                             "a numeric damping of the linear analyses only; it is not part of the derived "
-                             "equations, so time runs and linearisations of the compiled system would leave it out. "
-                             "Use Rayleigh(alpha, beta) (Rayleigh.from_damping_ratios) for time simulations, or "
+                             f"a numeric damping that {who} does not include (simulate and the linear analyses "
+                             "do). Use Rayleigh(alpha, beta) (Rayleigh.from_damping_ratios) here, or simulate, or "
                              "the linear analyses (rotorkit.linear_model(model).modes(), campbell, "
                              "unbalance_response, frequency_response)")
+
+
+def check_time_run(system, who):
+    """Raise ParameterError if ``system``'s model holds a ModalDamping that its right-hand side leaves out.
+
+    A system compiled by :func:`~rotorkit.system.compile_model` carries it
+    (``system.modal_damping`` is True); a reduced system does not.
+    """
+    model = getattr(system, "model", None)
+    if modal_damping_spec(model) is not None and not getattr(system, "modal_damping", False):
+        raise ParameterError(f"{who}: model {getattr(model, 'name', None)!r} has Rotor(damping=ModalDamping(...)), "
+                             f"which this {type(system).__name__} leaves out of its equations (a reduced system "
+                             "does); simulate model.compile() instead, or use Rayleigh(alpha, beta) "
+                             "(Rayleigh.from_damping_ratios)")
+
+
+def with_modal_damping(eom, model):
+    """``eom`` with the modal damping force ``-C q'`` added, ``C``'s entries run-time parameter symbols.
+
+    ``C`` is symmetric: one symbol ``_modal_c<i>_<j>`` (``i <= j``) per pair of
+    the coordinates the linear analyses hold (all but a driven rotor's spin
+    angle), appended to ``eom.parameters`` (values: :func:`runtime_values`).
+    ``damping`` and ``forcing`` change; ``dissipation`` and the element
+    forces do not (the energy balance leaves this damping out).
+
+    Parameters
+    ----------
+    eom : rotorkit.symbolic.lagrange.EquationsOfMotion
+        The model's derived equations.
+    model : rotorkit.Model
+        The model (its linear coordinates).
+
+    Returns
+    -------
+    EquationsOfMotion
+    """
+    import dataclasses
+
+    import sympy as sp
+
+    from .linear_matrices import frozen_speed_model
+
+    linear = set(frozen_speed_model(model).coordinate_names)
+    damped = [i for i, q in enumerate(eom.coordinates) if str(q) in linear]
+    symbols, entries = [], {}
+    for a, i in enumerate(damped):
+        for j in damped[a:]:
+            c = sp.Symbol(f"{RUNTIME_PREFIX}{i}_{j}", real=True)
+            symbols.append(c)
+            entries[(i, j)] = entries[(j, i)] = c
+    n = eom.n
+    C = sp.ImmutableSparseMatrix(n, n, entries)
+    rows = [sp.Add(*[entries[(i, j)] * eom.speeds[j] for j in damped]) if i in damped else sp.S.Zero
+            for i in range(n)]
+    return dataclasses.replace(eom, damping=sp.ImmutableSparseMatrix(eom.damping + C),
+                               forcing=sp.ImmutableMatrix(eom.forcing - sp.Matrix(rows)),
+                               parameters=tuple(eom.parameters) + tuple(symbols))
+
+
+def runtime_values(model, names, coordinate_names):
+    """``{name: C[i, j]}`` for the run-time parameters ``names`` (``_modal_c<i>_<j>``) of :func:`with_modal_damping`.
+
+    ``C`` is :func:`model_modal_damping` of ``model`` at its parameter values
+    (speed profiles and drives frozen at ``t = 0``, every rotor at rest);
+    ``coordinate_names`` are the system's, which ``i``, ``j`` index.
+    """
+    from .linear_matrices import frozen_speed_model
+
+    frozen = frozen_speed_model(model)
+    C = model_modal_damping(frozen, frozen.parameters, 0.0)
+    where = {name: k for k, name in enumerate(frozen.coordinate_names)}
+    out = {}
+    for name in names:
+        i, j = (int(k) for k in name[len(RUNTIME_PREFIX):].split("_"))
+        out[name] = float(C[where[coordinate_names[i]], where[coordinate_names[j]]])
+    return out
 
 
 def modal_state_term(system, t=0.0):
@@ -105,14 +201,16 @@ def modal_state_term(system, t=0.0):
     system's parameter values (speed profiles frozen at ``t``), ``M`` the
     mass matrix of its linear equations. Used by
     :func:`~rotorkit.linear.modes.averaged_jacobian`, so that
-    ``natural_frequencies`` of a system matches the linear analyses.
+    ``natural_frequencies`` of a system matches the linear analyses. None
+    also for a system whose right-hand side holds the damping already
+    (``system.modal_damping``: every compiled system of such a model).
     """
     from scipy.linalg import solve
 
     from .linear_matrices import frozen_speed_model, linear_matrices
 
     model = system.model
-    if modal_damping_spec(model) is None:
+    if modal_damping_spec(model) is None or getattr(system, "modal_damping", False):
         return None
     frozen = frozen_speed_model(model, t)
     values = dict(frozen.parameters)
