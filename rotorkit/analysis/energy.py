@@ -689,6 +689,20 @@ def _balance_on(evaluator, t, q, u, p, cuts):
     return h, motion, pieces, switches
 
 
+def _add_modal_damping(model, parameters, terms, u, pieces):
+    """Add the power ``-q' . C q'`` of a rotor's ModalDamping (a numeric matrix, no term of ``D``) to "damping"."""
+    from ..linear.modal_damping import coordinate_damping_matrix
+
+    own = set(model.parameters)
+    C = coordinate_damping_matrix(model.with_values(**{k: v for k, v in parameters.items() if k in own}),
+                                  terms.coordinates)
+    if C is None:
+        return
+    for piece in pieces:
+        us = u[:, piece.idx]
+        piece.powers[DAMPING] = piece.powers[DAMPING] - np.einsum("it,ij,jt->t", us, C, us)
+
+
 def energy_balance(model, result):
     """The energy balance of ``result``, a run of ``model``.
 
@@ -733,6 +747,7 @@ def energy_balance(model, result):
     events = _events(model, result.parameters, t[0], t[-1])
     cuts = [float(t[0]), *events, float(t[-1])]
     h, motion, pieces, switches = _balance_on(evaluator, t, q, u, p, cuts)
+    _add_modal_damping(model, result.parameters, terms, u, pieces)
     names = terms.names
     bad = ~np.isfinite(h) | ~np.isfinite(motion)
     for piece in pieces:

@@ -41,12 +41,14 @@ from __future__ import annotations
 
 import numbers
 
+import numpy as np
+
 from ..errors import ParameterError
 from .linear_matrices import modal_damping_from_modes, modal_damping_spec, model_modal_damping, undamped_modes
 
 __all__ = ["modal_damping_matrix", "modal_damped_modes", "undamped_modes", "modal_damping_spec",
            "model_modal_damping", "modal_state_term", "refuse_time_run", "check_time_run", "with_modal_damping",
-           "runtime_values", "RUNTIME_PREFIX"]
+           "runtime_values", "coordinate_damping_matrix", "RUNTIME_PREFIX"]
 
 #: name prefix of the run-time parameters holding the modal damping matrix: ``_modal_c<i>_<j>`` is ``C[i, j]``
 RUNTIME_PREFIX = "_modal_c"
@@ -139,7 +141,7 @@ def with_modal_damping(eom, model):
     the coordinates the linear analyses hold (all but a driven rotor's spin
     angle), appended to ``eom.parameters`` (values: :func:`runtime_values`).
     ``damping`` and ``forcing`` change; ``dissipation`` and the element
-    forces do not (the energy balance leaves this damping out).
+    forces do not (the energy balance adds its power itself: :func:`coordinate_damping_matrix`).
 
     Parameters
     ----------
@@ -191,6 +193,31 @@ def runtime_values(model, names, coordinate_names):
     for name in names:
         i, j = (int(k) for k in name[len(RUNTIME_PREFIX):].split("_"))
         out[name] = float(C[where[coordinate_names[i]], where[coordinate_names[j]]])
+    return out
+
+
+def coordinate_damping_matrix(model, coordinate_names):
+    """The modal damping matrix ``C`` (n, n) over ``coordinate_names``, or None without a ModalDamping.
+
+    ``C`` is the one the compiled equations hold (:func:`with_modal_damping`):
+    :func:`model_modal_damping` of ``model`` at its parameter values, at rest;
+    rows and columns of coordinates the linear analyses do not hold (a
+    driven rotor's spin angle) are zero. Used by the energy balance for the
+    power ``-q' . C q'`` this damping takes out.
+    """
+    from .linear_matrices import frozen_speed_model
+
+    if modal_damping_spec(model) is None:
+        return None
+    frozen = frozen_speed_model(model)
+    C = model_modal_damping(frozen, frozen.parameters, 0.0)
+    where = {name: k for k, name in enumerate(frozen.coordinate_names)}
+    index = [where.get(str(name)) for name in coordinate_names]
+    out = np.zeros((len(index), len(index)))
+    for a, i in enumerate(index):
+        for b, j in enumerate(index):
+            if i is not None and j is not None:
+                out[a, b] = C[i, j]
     return out
 
 
