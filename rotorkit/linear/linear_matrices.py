@@ -54,6 +54,39 @@ def _namespace():
     return namespace
 
 
+#: math functions of the generated code -> their numpy ufuncs (the same IEEE arithmetic, over arrays)
+_NUMPY_FUNCTIONS = {
+    "sin": "sin", "cos": "cos", "tan": "tan", "exp": "exp", "log": "log", "sqrt": "sqrt", "atan2": "arctan2",
+    "sinh": "sinh", "cosh": "cosh", "tanh": "tanh", "asin": "arcsin", "acos": "arccos", "atan": "arctan",
+    "floor": "floor", "ceil": "ceil", "copysign": "copysign", "asinh": "arcsinh", "acosh": "arccosh",
+    "atanh": "arctanh", "log2": "log2", "log10": "log10", "log1p": "log1p", "expm1": "expm1", "fmod": "fmod",
+    "max": "maximum", "min": "minimum", "abs": "abs", "fabs": "fabs", "hypot": "hypot",
+}
+_NUMPY_NAMESPACE = {}
+
+
+def _vectorised(function):
+    """``function`` (generated code of ``(a, t)``) with numpy ufuncs for its math: array parameters in, arrays out.
+
+    Code that cannot run on arrays (a conditional expression, a function
+    numpy lacks) raises when called; the callers fall back to the scalar
+    function then.
+    """
+    import types
+
+    if not _NUMPY_NAMESPACE:
+        _NUMPY_NAMESPACE.update(vars(math))
+        _NUMPY_NAMESPACE.update({name: getattr(np, target) for name, target in _NUMPY_FUNCTIONS.items()})
+    return types.FunctionType(function.__code__, _NUMPY_NAMESPACE, function.__name__)
+
+
+def _scalar_rows(function, arrays):
+    """``function`` (of a list of free values) at each point of ``arrays`` (k arrays of m values): shape (m, ...)."""
+    m = max((a.size for a in arrays), default=1)
+    arrays = [np.broadcast_to(a, (m,)) for a in arrays]
+    return np.array([np.asarray(function([float(a[i]) for a in arrays]), dtype=float) for i in range(m)])
+
+
 class LinearMatrices:
     """``M``, ``C``, ``K`` of a linear model as numbers, except for a few free parameters (the swept speed).
 
@@ -104,6 +137,29 @@ class LinearMatrices:
             return self._select(mask)
         function = self._function
         return lambda free_values: np.asarray(function(list(free_values)), dtype=float)[mask]
+
+    def entries_function_many(self, mask):
+        """:meth:`entries_function` over many points at once: ``f(arrays)`` -> shape (m, k).
+
+        ``arrays`` holds one array of m values per free parameter (in
+        :attr:`free` order); the result row ``i`` equals
+        ``entries_function(mask)`` at point ``i`` (the same generated
+        expressions, evaluated by numpy over the points where they can be,
+        point by point otherwise).
+        """
+        mask = np.asarray(mask, dtype=bool)
+        scalar = self.entries_function(mask)
+        many = self._select(mask, True) if self._select is not None else None
+
+        def entries(arrays):
+            arrays = [np.asarray(a, dtype=float).reshape(-1) for a in arrays]
+            if many is not None:
+                out = many(arrays)
+                if out is not None:
+                    return out
+            return _scalar_rows(scalar, arrays).reshape(-1, int(mask.sum()))
+
+        return entries
 
     def dense(self, **free_values):
         """``(M, C, K)`` as dense numpy arrays, shape (n, n): :meth:`__call__` without scipy (small models)."""
@@ -200,7 +256,7 @@ def _from_module(module, values, t, free):
             out.extend(f(a, t))
         return np.asarray(out, dtype=float)[gather] if out else np.zeros(0)
 
-    def select(mask):
+    def select(mask, many=False):
         picked = [order[i] for i in np.flatnonzero(mask)]
         by_element = {}
         for position, (m, k) in enumerate(picked):
@@ -209,7 +265,8 @@ def _from_module(module, values, t, free):
         for m, items in by_element.items():
             template, selection, a, slots = moving[m][:4]
             f = template_function(module, template, tuple(selection[k] for _, k in items))
-            parts.append((f, a, slots, np.array([position for position, _ in items], dtype=np.int64)))
+            parts.append((_vectorised(f) if many else f, a, slots,
+                          np.array([position for position, _ in items], dtype=np.int64)))
 
         def entries(free_values):
             out = np.empty(len(picked))
@@ -221,7 +278,24 @@ def _from_module(module, values, t, free):
                 out[positions] = f(a, t)
             return out
 
-        return entries
+        def entries_many(arrays):
+            """Shape (m, k) over the points of ``arrays`` (one per free parameter), or None if numpy cannot."""
+            size = max((x.size for x in arrays), default=1)
+            out = np.empty((len(picked), size))
+            try:
+                with np.errstate(all="raise", under="ignore"):  # anything unusual: the scalar code decides
+                    for f, a, slots, positions in parts:
+                        if slots:
+                            a = list(a)
+                            for local, k in slots:
+                                a[local] = arrays[k]
+                        for position, value in zip(positions, f(a, t)):
+                            out[position] = value
+            except Exception:  # code numpy cannot run on arrays (a conditional expression): point by point
+                return None
+            return out.T
+
+        return entries_many if many else entries
 
     return LinearMatrices(int(module.N_COORDINATES), tuple(free), constant, variable, function, nonaffine, select)
 

@@ -306,12 +306,9 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
         F[ix] += u.magnitude * np.exp(1j * u.angle)
         F[iy] += -1j * u.magnitude * np.exp(1j * u.angle)
     spins = model.spin_speeds(W)
-    from .harmonic import BANDED_FRACTION, band_structure
+    from .harmonic import harmonic_method
 
-    extra = () if model.speed_terms is None else (model.speed_terms.pattern(),)
-    _, lo, up = band_structure(model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory,
-                               *extra)
-    used = method if method != "auto" else ("banded" if lo + up + 1 <= BANDED_FRACTION * n else "dense")
+    used = harmonic_method(model, method)
     components, frequencies = {}, {}
     for rotor, F in by_rotor.items():
         w = np.abs(spins[rotor])
