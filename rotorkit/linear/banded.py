@@ -45,20 +45,21 @@ def reverse_cuthill_mckee(pattern):
     """
     P = np.asarray(pattern, dtype=bool)
     n = P.shape[0]
-    neighbours = [np.flatnonzero(P[i]) for i in range(n)]
-    degree = np.array([np.count_nonzero(row != i) for i, row in enumerate(neighbours)])
-    seen = np.zeros(n, dtype=bool)
+    rows, cols = np.nonzero(P)  # row by row, columns ascending: plain lists below (Python loops over them)
+    neighbours = [c.tolist() for c in np.split(cols, np.searchsorted(rows, np.arange(1, n)))]
+    degree = (np.bincount(rows, minlength=n) - np.diagonal(P)).tolist()
+    seen = [False] * n
     order = []
-    for start in np.argsort(degree, kind="stable"):
+    for start in np.argsort(degree, kind="stable").tolist():
         if seen[start]:
             continue
         seen[start] = True
-        queue, head = [int(start)], 0
+        queue, head = [start], 0
         while head < len(queue):
             node = queue[head]
             head += 1
-            new = [int(k) for k in neighbours[node] if not seen[k]]
-            new.sort(key=lambda k: degree[k])
+            new = [k for k in neighbours[node] if not seen[k]]
+            new.sort(key=degree.__getitem__)
             for k in new:
                 seen[k] = True
             queue.extend(new)
@@ -140,7 +141,7 @@ def solve_banded_last(bands, lower, upper, rhs, *, pivoting="auto"):
             lo, hi = max(0, -d), min(n, n - d)
             if lo < hi:
                 residual[lo:hi] -= bands[lo:hi, c, None, :] * x[lo + d:hi + d]
-        scale = _size(bands).sum(axis=1).max(axis=0) * _size(x).max(axis=(0, 1)) + _size(rhs).max(axis=(0, 1))
+        scale = _row_sums(bands).max(axis=0) * _size(x).max(axis=(0, 1)) + _size(rhs).max(axis=(0, 1))
         good = _size(residual).max(axis=(0, 1)) <= BACKWARD_ERROR * width * np.finfo(dtype).eps * scale
     if not good.all():
         bad = np.flatnonzero(~good)
@@ -154,6 +155,16 @@ def _size(a):
         return np.abs(a)
     a = np.ascontiguousarray(a)
     return np.abs(a.view(a.real.dtype)).reshape(a.shape + (2,)).sum(axis=-1)
+
+
+def _row_sums(bands):
+    """``sum_c |Re| + |Im|`` of each row of each system, shape (n, m): the rows' norms for ``|A|_inf``."""
+    if not np.iscomplexobj(bands):
+        return np.abs(bands).sum(axis=1)
+    n, _, m = bands.shape
+    bands = np.ascontiguousarray(bands)
+    # the real and imaginary parts side by side on the last axis: sum over the band first, then the pairs
+    return np.abs(bands.view(bands.real.dtype)).sum(axis=1).reshape(n, m, 2).sum(axis=-1)
 
 
 def _solve_unpivoted(S, lower, upper, y):
