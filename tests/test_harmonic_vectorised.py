@@ -54,11 +54,12 @@ def test_speed_terms_at_many_speeds_equal_the_terms_at_each_speed(interpolation,
     assert np.abs(many).max() > 1e5  # the remainders are not all zero: a wrong value could not pass
 
 
-def test_linear_tables_are_evaluated_for_all_speeds_at_once(monkeypatch):
-    """The point-by-point fallback is not used for piecewise-linear tables."""
+@pytest.mark.parametrize("interpolation", ["linear", "pchip"])
+def test_tables_are_evaluated_for_all_speeds_at_once(monkeypatch, interpolation):
+    """The point-by-point fallback is not used for piecewise-linear or PCHIP tables (numpy.where for PCHIP's steps)."""
     import rotorkit.linear.linear_matrices as lm
 
-    terms = linear_model(rotor(), speed=500.0).speed_terms
+    terms = linear_model(rotor(interpolation), speed=500.0).speed_terms
 
     def refuse(*args):
         raise AssertionError("evaluated point by point")

@@ -54,32 +54,6 @@ def _namespace():
     return namespace
 
 
-#: math functions of the generated code -> their numpy ufuncs (the same IEEE arithmetic, over arrays)
-_NUMPY_FUNCTIONS = {
-    "sin": "sin", "cos": "cos", "tan": "tan", "exp": "exp", "log": "log", "sqrt": "sqrt", "atan2": "arctan2",
-    "sinh": "sinh", "cosh": "cosh", "tanh": "tanh", "asin": "arcsin", "acos": "arccos", "atan": "arctan",
-    "floor": "floor", "ceil": "ceil", "copysign": "copysign", "asinh": "arcsinh", "acosh": "arccosh",
-    "atanh": "arctanh", "log2": "log2", "log10": "log10", "log1p": "log1p", "expm1": "expm1", "fmod": "fmod",
-    "max": "maximum", "min": "minimum", "abs": "abs", "fabs": "fabs", "hypot": "hypot",
-}
-_NUMPY_NAMESPACE = {}
-
-
-def _vectorised(function):
-    """``function`` (generated code of ``(a, t)``) with numpy ufuncs for its math: array parameters in, arrays out.
-
-    Code that cannot run on arrays (a conditional expression, a function
-    numpy lacks) raises when called; the callers fall back to the scalar
-    function then.
-    """
-    import types
-
-    if not _NUMPY_NAMESPACE:
-        _NUMPY_NAMESPACE.update(vars(math))
-        _NUMPY_NAMESPACE.update({name: getattr(np, target) for name, target in _NUMPY_FUNCTIONS.items()})
-    return types.FunctionType(function.__code__, _NUMPY_NAMESPACE, function.__name__)
-
-
 def _scalar_rows(function, arrays):
     """``function`` (of a list of free values) at each point of ``arrays`` (k arrays of m values): shape (m, ...)."""
     m = max((a.size for a in arrays), default=1)
@@ -199,6 +173,7 @@ class LinearMatrices:
 def _from_module(module, values, t, free):
     """:class:`LinearMatrices` assembled from the cached element templates (:mod:`rotorkit.codegen.linear_cache`)."""
     from ..codegen.linear_cache import template_function
+    from .array_code import array_function, array_template_function
 
     if not module.LINEAR:
         return None
@@ -261,12 +236,14 @@ def _from_module(module, values, t, free):
         by_element = {}
         for position, (m, k) in enumerate(picked):
             by_element.setdefault(m, []).append((position, k))
-        parts = []
+        parts, sources = [], []
         for m, items in by_element.items():
             template, selection, a, slots = moving[m][:4]
-            f = template_function(module, template, tuple(selection[k] for _, k in items))
-            parts.append((_vectorised(f) if many else f, a, slots,
+            chosen = tuple(selection[k] for _, k in items)
+            f = template_function(module, template, chosen)
+            parts.append((array_function(f) if many else f, a, slots,
                           np.array([position for position, _ in items], dtype=np.int64)))
+            sources.append((template, chosen))
 
         def entries(free_values):
             out = np.empty(len(picked))
@@ -278,22 +255,31 @@ def _from_module(module, values, t, free):
                 out[positions] = f(a, t)
             return out
 
+        def evaluate(functions, arrays):
+            out = np.empty((len(picked), max((x.size for x in arrays), default=1)))
+            for f, (_, a, slots, positions) in zip(functions, parts):
+                if slots:
+                    a = list(a)
+                    for local, k in slots:
+                        a[local] = arrays[k]
+                for position, value in zip(positions, f(a, t)):
+                    out[position] = value
+            return out
+
         def entries_many(arrays):
             """Shape (m, k) over the points of ``arrays`` (one per free parameter), or None if numpy cannot."""
-            size = max((x.size for x in arrays), default=1)
-            out = np.empty((len(picked), size))
             try:
                 with np.errstate(all="raise", under="ignore"):  # anything unusual: the scalar code decides
-                    for f, a, slots, positions in parts:
-                        if slots:
-                            a = list(a)
-                            for local, k in slots:
-                                a[local] = arrays[k]
-                        for position, value in zip(positions, f(a, t)):
-                            out[position] = value
-            except Exception:  # code numpy cannot run on arrays (a conditional expression): point by point
+                    return evaluate([part[0] for part in parts], arrays).T
+            except Exception:
+                pass
+            try:  # conditional expressions (guarded pieces): rewritten to numpy.where of both branches
+                rewritten = [array_template_function(module, template, chosen) for template, chosen in sources]
+                with np.errstate(all="ignore"):  # the branch not taken may divide by zero
+                    out = evaluate(rewritten, arrays)
+            except Exception:  # code numpy cannot run on arrays (erf...): point by point
                 return None
-            return out.T
+            return out.T if np.all(np.isfinite(out)) else None
 
         return entries_many if many else entries
 
