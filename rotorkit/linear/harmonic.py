@@ -61,25 +61,44 @@ def band_structure(*matrices):
 
 
 def _layout(model):
-    """``(perm, lower, upper, bands)`` of a linear model: its order, bands and ``M, C, K, G, H`` in band rows."""
+    """``(perm, lower, upper, names, B)`` of a linear model: its order, bands, and its matrices in band rows.
+
+    ``B`` (complex, shape (n (lower + upper + 1), k)) holds the band rows of
+    the k matrices among ``M, C, K, G, H`` that are not zero (``names``), one
+    per column: the dynamic stiffness of many points is ``B`` times their
+    coefficients (one matrix product, see :func:`_coefficients`).
+    """
     layout = _LAYOUTS.get(model)
     if layout is None:
         from .banded import band_rows
 
-        matrices = (model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory)
-        terms = model.speed_terms
-        perm, lower, upper = band_structure(*matrices, *(() if terms is None else (terms.pattern(),)))
-        bands = tuple(band_rows(A[np.ix_(perm, perm)], lower, upper) for A in matrices)
-        layout = perm, lower, upper, tuple(b if b.any() else None for b in bands)
+        matrices = {"M": model.mass, "C": model.damping, "K": model.stiffness, "G": model.gyroscopic,
+                    "H": model.circulatory}
+        terms = getattr(model, "speed_terms", None)
+        perm, lower, upper = band_structure(*matrices.values(), *(() if terms is None else (terms.pattern(),)))
+        bands = {name: band_rows(A[np.ix_(perm, perm)], lower, upper).reshape(-1) for name, A in matrices.items()}
+        names = tuple(name for name, b in bands.items() if b.any())
+        B = np.stack([bands[name] for name in names], axis=-1).astype(complex)
+        layout = perm, lower, upper, names, B
         _LAYOUTS[model] = layout
     return layout
+
+
+def _coefficients(names, W, w):
+    """Coefficient of each matrix in ``K + W H - w^2 M + i w (C + W G)`` at the points ``(W, w)``, shape (k, m)."""
+    factors = {"M": lambda: -(w * w), "C": lambda: 1j * w, "K": lambda: np.ones_like(w), "G": lambda: 1j * (w * W),
+               "H": lambda: W}
+    out = np.empty((len(names), w.size), dtype=complex)
+    for row, name in enumerate(names):
+        out[row] = factors[name]()
+    return out
 
 
 def harmonic_method(model, method="auto"):
     """``"banded"`` or ``"dense"``: how :func:`solve_harmonic` solves ``model`` with ``method``."""
     if method != "auto":
         return method
-    _, lower, upper, _ = _layout(model)
+    _, lower, upper, _, _ = _layout(model)
     return "banded" if lower + upper + 1 <= BANDED_FRACTION * model.n else "dense"
 
 
@@ -117,7 +136,7 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
     if method == "banded":
         from .banded import solve_banded_last
 
-        perm, lower, upper, (Mb, Cb, Kb, Gb, Hb) = _layout(model)
+        perm, lower, upper, names, B = _layout(model)
         width = lower + upper + 1
         Fp = F[perm] if shared else F[:, perm]
         if terms is not None:  # band positions of the exact speed terms
@@ -129,17 +148,8 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
         for start in range(0, w.size, batch):  # all points of a batch in one banded elimination
             sl = slice(start, min(start + batch, w.size))
             W, om = speeds[sl], w[sl]
-            S = np.empty((n, width, om.size), dtype=complex)  # the points on the last axis
-            re, im = S.real, S.imag
-            np.multiply(Mb[..., None], -(om * om), out=re)
-            if Kb is not None:
-                re += Kb[..., None]
-            if Hb is not None:
-                re += Hb[..., None] * W
-            im[...] = 0.0 if Cb is None else Cb[..., None]
-            if Gb is not None:
-                im += Gb[..., None] * W
-            im *= om
+            # the dynamic stiffness in band rows, the points on the last axis: one matrix product
+            S = (B @ _coefficients(names, W, om)).reshape(n, width, om.size)
             if exact is not None:
                 np.add.at(S, (term_rows, term_bands), exact[sl].T)
             y = (np.broadcast_to(Fp[..., None], Fp.shape + (om.size,)) if shared

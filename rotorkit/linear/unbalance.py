@@ -236,8 +236,8 @@ def _singular(model, W, w, rotor, method):
             ok = False
         if not ok:
             break
-    D = (model.stiffness + W[k] * model.circulatory - w[k] ** 2 * model.mass
-         + 1j * w[k] * (model.damping + W[k] * model.gyroscopic))
+    M, C, K = model.matrices(W[k])  # speed terms included, exact at this speed
+    D = K - w[k] ** 2 * M + 1j * w[k] * C
     shape = np.abs(np.linalg.svd(D)[2][-1].conj())  # the null vector: the mode at this frequency
     largest = [model.coordinate_names[i] for i in np.argsort(-shape)[:2] if shape[i] > 1e-3 * shape.max()]
     return ParameterError(
