@@ -185,31 +185,50 @@ def _from_module(module, values, t, free):
     fixed = [[], [], []]  # per matrix: lists of (rows, cols, values) arrays
     moving = []  # per element with free entries: (template, selection, a, free slots, selection array,
     #              coordinates, not-affine flags)
+    arrays, splits, functions_of = {}, {}, {}  # per template (and its free locals): computed once, shared by
+    #                                              the elements of a template (the segments of a shaft)
+
+    def template_arrays(template):
+        if template not in arrays:
+            arrays[template] = tuple(np.asarray(x, dtype=np.int64) for x in module.TEMPLATES[template][:3])
+        return arrays[template]
+
+    def function_of(template, selection):
+        if (template, selection) not in functions_of:
+            functions_of[template, selection] = template_function(module, template, selection)
+        return functions_of[template, selection]
+
     for template, params, coords, _label in module.ELEMENTS:
-        matrix, lrows, lcols, _, depends, nonaffine = module.TEMPLATES[template][:6]
         coords = np.asarray(coords, dtype=np.int64)
         a = [p[k] for k in params]
         slots = [(local, free_slot[k]) for local, k in enumerate(params) if k in free_slot]
-        local_free = {local for local, _ in slots}
-        chosen = [e for e, d in enumerate(depends) if local_free.intersection(d)]
-        rest = [e for e, d in enumerate(depends) if not local_free.intersection(d)]
-        matrix, lrows, lcols = (np.asarray(x, dtype=np.int64) for x in (matrix, lrows, lcols))
+        local_free = frozenset(local for local, _ in slots)
+        split = splits.get((template, local_free))
+        if split is None:  # the entries that hold a free parameter (chosen) and the others (rest)
+            depends, nonaffine = module.TEMPLATES[template][4:6]
+            chosen = tuple(e for e, d in enumerate(depends) if local_free.intersection(d))
+            rest = tuple(e for e, d in enumerate(depends) if not local_free.intersection(d))
+            flags = [bool(local_free.intersection(nonaffine[e])) or not speed_like for e in chosen]
+            matrix = template_arrays(template)[0]
+            split = splits[template, local_free] = (chosen, rest, np.asarray(rest, dtype=np.int64),
+                                                    [matrix[np.asarray(rest, dtype=np.int64)] == w for w in range(3)],
+                                                    flags)
+        chosen, rest, rest_array, rest_masks, flags = split
+        matrix, lrows, lcols = template_arrays(template)
         if rest:
-            vals = np.array(template_function(module, template, tuple(rest))(a, t), dtype=float)
-            rest = np.asarray(rest)
+            vals = np.array(function_of(template, rest)(a, t), dtype=float)
             for which in range(3):
-                mask = matrix[rest] == which
-                fixed[which].append((coords[lrows[rest[mask]]], coords[lcols[rest[mask]]], vals[mask]))
+                mask = rest_masks[which]
+                fixed[which].append((coords[lrows[rest_array[mask]]], coords[lcols[rest_array[mask]]], vals[mask]))
         if chosen:
-            moving.append((template, tuple(chosen), a, slots, np.asarray(chosen), coords,
-                           [bool(local_free.intersection(nonaffine[e])) or not speed_like for e in chosen]))
+            moving.append((template, chosen, a, slots, np.asarray(chosen), coords, flags))
     constant, variable, order, nonaffine = [], [], [], []
     for which in range(3):
         parts = fixed[which] or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
         constant.append(tuple(np.concatenate([part[k] for part in parts]) for k in range(3)))
         vrows, vcols = [], []
         for m, (template, _, _, _, chosen, coords, flags) in enumerate(moving):
-            matrix, lrows, lcols = (np.asarray(x, dtype=np.int64) for x in module.TEMPLATES[template][:3])
+            matrix, lrows, lcols = template_arrays(template)
             mask = matrix[chosen] == which
             vrows.append(coords[lrows[chosen[mask]]])
             vcols.append(coords[lcols[chosen[mask]]])
@@ -217,7 +236,7 @@ def _from_module(module, values, t, free):
             nonaffine.extend(f for f, keep in zip(flags, mask) if keep)
         variable.append((np.concatenate(vrows) if vrows else np.zeros(0, np.int64),
                          np.concatenate(vcols) if vcols else np.zeros(0, np.int64)))
-    functions = [template_function(module, template, selection) for template, selection, *_ in moving]
+    functions = [function_of(template, selection) for template, selection, *_ in moving]
     starts = np.cumsum([0] + [len(x[1]) for x in moving])
     gather = np.array([starts[m] + k for m, k in order], dtype=np.int64)
 
