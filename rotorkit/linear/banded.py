@@ -14,7 +14,8 @@ is one numpy operation over all of them:
   ``|b - A x| / (|A| |x| + |b|)`` (infinity norms) is below
   :data:`BACKWARD_ERROR` ``x`` (band width) ``x`` machine epsilon, ``x`` is
   the exact solution of a system within rounding of the given one, as
-  partial pivoting would give;
+  partial pivoting would give (several right-hand sides are checked
+  together, by one combination of them with weights of distinct phases);
 - the systems where it is not (a zero or small pivot) are solved again by
   elimination with partial pivoting inside the band (LAPACK's ``gbsv``
   algorithm, the pivot the entry of largest ``|Re| + |Im|``).
@@ -135,18 +136,36 @@ def solve_banded_last(bands, lower, upper, rhs, *, pivoting="auto"):
         return _solve_pivoted(bands, lower, upper, rhs, dtype)
     with np.errstate(all="ignore"):  # a zero pivot gives inf or nan: those systems fail the check below
         x = _solve_unpivoted(np.array(bands, dtype=dtype), lower, upper, np.array(rhs, dtype=dtype))
-        residual = np.array(rhs, dtype=dtype)
+        b, xb = _combined(rhs, dtype), _combined(x, dtype)
+        residual = np.array(b, dtype=dtype)
         for c in range(width):  # b - A x, one band at a time over all systems
             d = c - lower  # column = row + d
             lo, hi = max(0, -d), min(n, n - d)
             if lo < hi:
-                residual[lo:hi] -= bands[lo:hi, c, None, :] * x[lo + d:hi + d]
-        scale = _row_sums(bands).max(axis=0) * _size(x).max(axis=(0, 1)) + _size(rhs).max(axis=(0, 1))
-        good = _size(residual).max(axis=(0, 1)) <= BACKWARD_ERROR * width * np.finfo(dtype).eps * scale
+                residual[lo:hi] -= bands[lo:hi, c, :] * xb[lo + d:hi + d]
+        scale = _row_sums(bands).max(axis=0) * _size(xb).max(axis=0) + _size(b).max(axis=0)
+        good = _size(residual).max(axis=0) <= BACKWARD_ERROR * width * np.finfo(dtype).eps * scale
     if not good.all():
         bad = np.flatnonzero(~good)
         x[..., bad] = _solve_pivoted(bands[..., bad], lower, upper, rhs[..., bad], dtype)
     return x
+
+
+def _combined(a, dtype):
+    """The right-hand sides (or solutions) ``a`` (n, r, m) combined into one per system, shape (n, m).
+
+    One column as it is; several with fixed weights of distinct phases
+    (``exp(2 pi i k phi)``, ``phi`` the golden ratio's fraction; distinct
+    positive weights if real): the residual of the combination is the same
+    combination of the columns' residuals, so one check (one product with
+    ``A``) covers them all, not ``r`` checks (a large residual in some column
+    would have to cancel against the others exactly to pass).
+    """
+    if a.shape[1] == 1:
+        return a[:, 0]
+    k = np.arange(a.shape[1]) * 0.6180339887498949
+    weights = np.exp(2j * np.pi * k) if np.issubdtype(dtype, np.complexfloating) else 1.0 + k % 1.0
+    return np.einsum("nrm,r->nm", a, weights.astype(dtype))
 
 
 def _size(a):
