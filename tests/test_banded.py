@@ -64,3 +64,39 @@ def test_reverse_cuthill_mckee_reduces_the_bandwidth_as_scipy_does():
     two = np.zeros((6, 6), dtype=bool)  # two components
     two[:3, :3] = two[3:, 3:] = True
     assert sorted(reverse_cuthill_mckee(two).tolist()) == list(range(6))
+
+
+@pytest.mark.parametrize("pivoting", ["auto", "partial"])
+@pytest.mark.parametrize("dtype", [complex, float])
+def test_both_eliminations_equal_the_dense_solve(pivoting, dtype):
+    rng = np.random.default_rng(7)
+    n, lower, upper = 25, 4, 3
+    A = _banded(rng, 30, n, lower, upper, dtype=dtype)
+    A[:, np.arange(n), np.arange(n)] += 8.0  # dominant diagonals: no exchange needed in most systems
+    A[:3, 0, 0] = 0.0  # ...but needed in these
+    b = rng.standard_normal((30, n, 3)).astype(dtype)
+    x = solve_banded_many(band_rows(A, lower, upper), lower, upper, b, pivoting=pivoting)
+    ref = np.linalg.solve(A, b)
+    np.testing.assert_allclose(x, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+
+
+@pytest.mark.parametrize("dtype", [float, complex])
+def test_a_tiny_pivot_is_caught_by_the_backward_error_check(dtype):
+    """Without row exchanges [[1e-20, 1], [1, 1]] x = [1, 2] gives x = (0, 1); the answer is (1, 1) to 1e-20.
+
+    Also with more right-hand sides (checked together, by one combination of them) and beside a system that
+    needs no exchange.
+    """
+    A = np.array([[[1e-20, 1.0], [1.0, 1.0]], [[4.0, 1.0], [1.0, 3.0]]], dtype=dtype)
+    b = np.array([[[1.0], [2.0]]] * 2, dtype=dtype)
+    x = solve_banded_many(band_rows(A, 1, 1), 1, 1, b)
+    np.testing.assert_allclose(x[0, :, 0], [1.0, 1.0], rtol=1e-15)
+    np.testing.assert_allclose(x[1, :, 0], np.linalg.solve(A[1], b[1])[:, 0], rtol=1e-15)
+    several = np.concatenate([b, 3 * b, np.array([[[0.0], [1.0]]] * 2, dtype=dtype)], axis=2)
+    x = solve_banded_many(band_rows(A, 1, 1), 1, 1, several)
+    np.testing.assert_allclose(x, np.linalg.solve(A, several), rtol=1e-14)
+
+
+def test_an_unknown_pivoting_is_refused():
+    with pytest.raises(ValueError, match="pivoting='none' is unknown"):
+        solve_banded_many(np.ones((1, 2, 1)), 0, 0, np.ones((1, 2, 1)), pivoting="none")

@@ -1,13 +1,24 @@
 """Banded linear algebra in numpy alone: a bandwidth-reducing order and many banded solves at once.
 
 The harmonic solves of an unbalance response or a frequency response
-function (:mod:`rotorkit.analysis.harmonic`) are hundreds of small banded
+function (:mod:`rotorkit.linear.harmonic`) are hundreds of small banded
 complex systems, one per speed. Solved one by one with LAPACK
 (``scipy.linalg.solve_banded``) each costs little, but importing scipy costs
-more than all of them on an everyday model. Here they are solved together:
-Gaussian elimination with partial pivoting inside the band (LAPACK's
-``gbsv`` algorithm, the pivot the entry of largest ``|Re| + |Im|``), each
-elimination step one numpy operation over all systems.
+more than all of them on an everyday model. Here they are solved together,
+the systems on the last axis of the arrays, so that each elimination step
+is one numpy operation over all of them:
+
+- first by Gaussian elimination without row exchanges (the band does not
+  widen: ``lower x upper`` updates per column), then every system's
+  residual is checked: where its normwise backward error
+  ``|b - A x| / (|A| |x| + |b|)`` (infinity norms) is below
+  :data:`BACKWARD_ERROR` ``x`` (band width) ``x`` machine epsilon, ``x`` is
+  the exact solution of a system within rounding of the given one, as
+  partial pivoting would give (several right-hand sides are checked
+  together, by one combination of them with weights of distinct phases);
+- the systems where it is not (a zero or small pivot) are solved again by
+  elimination with partial pivoting inside the band (LAPACK's ``gbsv``
+  algorithm, the pivot the entry of largest ``|Re| + |Im|``).
 
 :func:`reverse_cuthill_mckee` orders the coordinates of a sparsity pattern
 for a small bandwidth, as :func:`scipy.sparse.csgraph.reverse_cuthill_mckee`
@@ -19,7 +30,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["reverse_cuthill_mckee", "band_rows", "solve_banded_many"]
+__all__ = ["reverse_cuthill_mckee", "band_rows", "solve_banded_many", "solve_banded_last"]
+
+#: accept the solution without row exchanges when its backward error is below this many band widths x epsilon
+BACKWARD_ERROR = 16
 
 
 def reverse_cuthill_mckee(pattern):
@@ -32,20 +46,21 @@ def reverse_cuthill_mckee(pattern):
     """
     P = np.asarray(pattern, dtype=bool)
     n = P.shape[0]
-    neighbours = [np.flatnonzero(P[i]) for i in range(n)]
-    degree = np.array([np.count_nonzero(row != i) for i, row in enumerate(neighbours)])
-    seen = np.zeros(n, dtype=bool)
+    rows, cols = np.nonzero(P)  # row by row, columns ascending: plain lists below (Python loops over them)
+    neighbours = [c.tolist() for c in np.split(cols, np.searchsorted(rows, np.arange(1, n)))]
+    degree = (np.bincount(rows, minlength=n) - np.diagonal(P)).tolist()
+    seen = [False] * n
     order = []
-    for start in np.argsort(degree, kind="stable"):
+    for start in np.argsort(degree, kind="stable").tolist():
         if seen[start]:
             continue
         seen[start] = True
-        queue, head = [int(start)], 0
+        queue, head = [start], 0
         while head < len(queue):
             node = queue[head]
             head += 1
-            new = [int(k) for k in neighbours[node] if not seen[k]]
-            new.sort(key=lambda k: degree[k])
+            new = [k for k in neighbours[node] if not seen[k]]
+            new.sort(key=degree.__getitem__)
             for k in new:
                 seen[k] = True
             queue.extend(new)
@@ -66,8 +81,8 @@ def band_rows(matrix, lower, upper):
     return out
 
 
-def solve_banded_many(R, lower, upper, rhs):
-    """Solve many banded systems ``A_k x_k = b_k`` at once (partial pivoting within the band).
+def solve_banded_many(R, lower, upper, rhs, *, pivoting="auto"):
+    """Solve many banded systems ``A_k x_k = b_k`` at once.
 
     Parameters
     ----------
@@ -76,6 +91,10 @@ def solve_banded_many(R, lower, upper, rhs):
     lower, upper : int
         Numbers of sub- and super-diagonals.
     rhs : numpy.ndarray, shape (m, n, r)
+    pivoting : {"auto", "partial"}
+        ``"auto"``: without row exchanges where that is backward stable
+        (checked per system), partial pivoting elsewhere; ``"partial"``:
+        partial pivoting for every system.
 
     Returns
     -------
@@ -87,47 +106,147 @@ def solve_banded_many(R, lower, upper, rhs):
         If a matrix is singular (a zero pivot).
     """
     R = np.asarray(R)
-    m, n, width = R.shape
-    kl, kv = lower, lower + upper
     rhs = np.asarray(rhs)
-    r = rhs.shape[-1]
     dtype = np.result_type(R.dtype, rhs.dtype)
-    # the systems on the last axis: every step below is one vectorised operation over all of them
-    rows_in = np.zeros((n + kl + 1, kv + 1, m), dtype=dtype)
-    rows_in[:n] = np.moveaxis(R, 0, -1)
-    y = np.zeros((n + kl, r, m), dtype=dtype)
-    y[:n] = np.moveaxis(rhs, 0, -1)
-    # act: rows j..j+kl over columns j..j+kv of the partly reduced matrix; next: the same one column on
-    act, nxt = np.zeros((kl + 1, kv + 1, m), dtype=dtype), np.zeros((kl + 1, kv + 1, m), dtype=dtype)
-    for i in range(kl + 1):  # row i of A over columns 0..kv: R's window of row i starts at column i - kl
-        act[i, :upper + 1 + i] = rows_in[i, kl - i:]
-    U = np.empty((n, kv + 1, m), dtype=dtype)
-    batch = np.arange(m)
-    for j in range(n):
-        last = min(kl, n - 1 - j)
-        candidates = act[:last + 1, 0]
-        p = np.argmax(np.abs(candidates.real) + np.abs(candidates.imag), axis=0)
-        if p.any():  # partial pivoting: swap row j with row j + p (per system)
-            pivot_rows = act[p, :, batch]  # (m, kv + 1)
-            act[p, :, batch] = act[0].T
-            act[0] = pivot_rows.T
-            pivot_y = y[j + p, :, batch]
-            y[j + p, :, batch] = y[j].T
-            y[j] = pivot_y.T
-        pivot = act[0, 0]
-        if not np.all(pivot != 0):
-            raise np.linalg.LinAlgError("a banded matrix is singular")
-        U[j] = act[0]
-        if last:
-            factors = act[1:last + 1, 0] / pivot
-            y[j + 1:j + 1 + last] -= factors[:, None, :] * y[j]
-            np.subtract(act[1:last + 1, 1:], factors[:, None, :] * act[0, 1:], out=nxt[:last, :kv])
-        if j + 1 < n:  # move on one column: row j + kl + 1 comes in (its window starts at column j + 1)
-            nxt[last:kl, :kv] = act[last + 1:, 1:]
-            nxt[:kl, kv] = 0.0
-            nxt[kl] = rows_in[j + kl + 1]
-            act, nxt = nxt, act
-    x = np.zeros((n + kv, r, m), dtype=dtype)
+    bands = np.ascontiguousarray(np.moveaxis(R, 0, -1), dtype=dtype)
+    y = np.ascontiguousarray(np.moveaxis(rhs, 0, -1), dtype=dtype)
+    return np.moveaxis(solve_banded_last(bands, lower, upper, y, pivoting=pivoting), -1, 0)
+
+
+def solve_banded_last(bands, lower, upper, rhs, *, pivoting="auto"):
+    """:func:`solve_banded_many` with the systems on the last axis (no copies to reorder them).
+
+    Parameters
+    ----------
+    bands : numpy.ndarray, shape (n, lower + upper + 1, m)
+        ``bands[i, c, k] = A_k[i, i - lower + c]`` (zero outside the matrix); not modified.
+    rhs : numpy.ndarray, shape (n, r, m)
+        Not modified.
+    pivoting : {"auto", "partial"}
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, r, m)
+    """
+    if pivoting not in ("auto", "partial"):
+        raise ValueError(f"pivoting={pivoting!r} is unknown: expected 'auto' or 'partial'")
+    n, width, m = bands.shape
+    dtype = np.result_type(bands.dtype, rhs.dtype)
+    if pivoting == "partial" or n < 2 or m == 0:
+        return _solve_pivoted(bands, lower, upper, rhs, dtype)
+    with np.errstate(all="ignore"):  # a zero pivot gives inf or nan: those systems fail the check below
+        x = _solve_unpivoted(np.array(bands, dtype=dtype), lower, upper, np.array(rhs, dtype=dtype))
+        b, xb = _combined(rhs, dtype), _combined(x, dtype)
+        residual = np.array(b, dtype=dtype)
+        for c in range(width):  # b - A x, one band at a time over all systems
+            d = c - lower  # column = row + d
+            lo, hi = max(0, -d), min(n, n - d)
+            if lo < hi:
+                residual[lo:hi] -= bands[lo:hi, c, :] * xb[lo + d:hi + d]
+        scale = _row_sums(bands).max(axis=0) * _size(xb).max(axis=0) + _size(b).max(axis=0)
+        good = _size(residual).max(axis=0) <= BACKWARD_ERROR * width * np.finfo(dtype).eps * scale
+    if not good.all():
+        bad = np.flatnonzero(~good)
+        x[..., bad] = _solve_pivoted(bands[..., bad], lower, upper, rhs[..., bad], dtype)
+    return x
+
+
+def _combined(a, dtype):
+    """The right-hand sides (or solutions) ``a`` (n, r, m) combined into one per system, shape (n, m).
+
+    One column as it is; several with fixed weights of distinct phases
+    (``exp(2 pi i k phi)``, ``phi`` the golden ratio's fraction; distinct
+    positive weights if real): the residual of the combination is the same
+    combination of the columns' residuals, so one check (one product with
+    ``A``) covers them all, not ``r`` checks (a large residual in some column
+    would have to cancel against the others exactly to pass).
+    """
+    if a.shape[1] == 1:
+        return a[:, 0]
+    k = np.arange(a.shape[1]) * 0.6180339887498949
+    weights = np.exp(2j * np.pi * k) if np.issubdtype(dtype, np.complexfloating) else 1.0 + k % 1.0
+    return np.einsum("nrm,r->nm", a, weights.astype(dtype))
+
+
+def _size(a):
+    """``|Re a| + |Im a|`` (``|a|`` if real): the entries' sizes for the norms, without complex square roots."""
+    if not np.iscomplexobj(a):
+        return np.abs(a)
+    a = np.ascontiguousarray(a)
+    return np.abs(a.view(a.real.dtype)).reshape(a.shape + (2,)).sum(axis=-1)
+
+
+def _row_sums(bands):
+    """``sum_c |Re| + |Im|`` of each row of each system, shape (n, m): the rows' norms for ``|A|_inf``."""
+    if not np.iscomplexobj(bands):
+        return np.abs(bands).sum(axis=1)
+    n, _, m = bands.shape
+    bands = np.ascontiguousarray(bands)
+    # the real and imaginary parts side by side on the last axis: sum over the band first, then the pairs
+    return np.abs(bands.view(bands.real.dtype)).sum(axis=1).reshape(n, m, 2).sum(axis=-1)
+
+
+def _solve_unpivoted(S, lower, upper, y):
+    """Elimination without row exchanges, in place on ``S`` (n, lower + upper + 1, m) and ``y`` (n, r, m)."""
+    from numpy.lib.stride_tricks import as_strided
+
+    n, _, m = S.shape
+    s0, s1, s2 = S.strides
+    for j in range(n - 1):
+        last = min(lower, n - 1 - j)
+        if not last:
+            continue
+        # V[r, t] = S[j + r, lower - r + t] = A[j + r, j + t]: rows j..j+last over columns j..j+upper
+        V = as_strided(S[j, lower:], shape=(last + 1, upper + 1, m), strides=(s0 - s1, s1, s2))
+        factors = V[1:, 0] / V[0, 0]
+        if upper:
+            V[1:, 1:] -= factors[:, None, :] * V[0, 1:]
+        y[j + 1:j + 1 + last] -= factors[:, None, :] * y[j]
+    return _back_substitute(S[:, lower:], upper, y)
+
+
+def _back_substitute(U, kv, y):
+    """``x`` from the upper band ``U[j, t] = U_jj+t`` (n, kv + 1, m) and the reduced right-hand sides (n, r, m)."""
+    n = U.shape[0]
+    x = np.zeros((n + kv,) + y.shape[1:], dtype=y.dtype)
     for j in range(n - 1, -1, -1):
         x[j] = (y[j] - np.einsum("tm,trm->rm", U[j, 1:], x[j + 1:j + 1 + kv])) / U[j, 0]
-    return np.moveaxis(x[:n], -1, 0)
+    return x[:n]
+
+
+def _solve_pivoted(bands, lower, upper, rhs, dtype):
+    """Elimination with partial pivoting inside the band (LAPACK's ``gbsv``), the systems on the last axis."""
+    from numpy.lib.stride_tricks import as_strided
+
+    n, width, m = bands.shape
+    kl, kv = lower, lower + upper
+    # S[i, c] = A[i, i - kl + c] for c up to kl + kv: room for the fill-in that row exchanges bring
+    S = np.zeros((n + kl, kl + kv + 1, m), dtype=dtype)
+    S[:n, :width] = bands
+    y = np.array(rhs, dtype=dtype)
+    s0, s1, s2 = S.strides
+    pivots = np.empty((n, m), dtype=dtype)
+    for j in range(n):
+        last = min(kl, n - 1 - j)
+        # V[r, t] = S[j + r, kl - r + t] = A[j + r, j + t]: rows j..j+last over columns j..j+kv
+        V = as_strided(S[j, kl:], shape=(last + 1, kv + 1, m), strides=(s0 - s1, s1, s2))
+        if last:
+            candidates = V[:, 0]
+            p = np.argmax(np.abs(candidates.real) + np.abs(candidates.imag), axis=0)
+            swap = np.flatnonzero(p)
+            if swap.size:  # exchange row j with row j + p in the systems that need it
+                below = p[swap]
+                top = V[0, :, swap]
+                V[0, :, swap] = V[below, :, swap]
+                V[below, :, swap] = top
+                top = y[j, :, swap]
+                y[j, :, swap] = y[j + below, :, swap]
+                y[j + below, :, swap] = top
+        pivots[j] = V[0, 0]
+        if not np.all(pivots[j] != 0):
+            raise np.linalg.LinAlgError("a banded matrix is singular")
+        if last:
+            factors = V[1:, 0] / V[0, 0]
+            V[1:, 1:] -= factors[:, None, :] * V[0, 1:]
+            y[j + 1:j + 1 + last] -= factors[:, None, :] * y[j]
+    return _back_substitute(S[:n, kl:], kv, y)

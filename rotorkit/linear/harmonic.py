@@ -13,22 +13,36 @@ the structure of the matrices:
   (beam finite elements, chains of stations: reverse Cuthill-McKee
   ordering of the union of the sparsity patterns), each frequency is a
   banded LU solve, ``O(n b^2)``, all frequencies of a batch in one
-  elimination with partial pivoting (:mod:`rotorkit.linear.banded`, numpy
-  alone: no scipy import);
+  elimination, each step one numpy operation along the frequency axis
+  (:mod:`rotorkit.linear.banded`: without row exchanges where the
+  residual shows that to be backward stable, partial pivoting elsewhere;
+  numpy alone, no scipy import);
 - otherwise (small lumped models, dense couplings) the dense systems of
   all frequencies are solved in batches by :func:`numpy.linalg.solve`.
+
+Entries not affine in the speed (tabulated bearing coefficients,
+:class:`~rotorkit.linear.linear_model.SpeedTerms`) are evaluated exactly at
+every speed, all speeds at once (:meth:`SpeedTerms.values_at`), and added
+to the dynamic stiffness of each.
+
+The ordering and bands depend on the model only: they are computed once
+per :class:`~rotorkit.linear.linear_model.LinearModel` and kept with it.
 """
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
-__all__ = ["solve_harmonic", "band_structure"]
+__all__ = ["solve_harmonic", "band_structure", "harmonic_method"]
 
 #: use the banded solver when (lower + upper + 1) is below this fraction of n
 BANDED_FRACTION = 0.25
-#: at most this many complex entries per dense batch
+#: at most this many complex entries per batch
 _BATCH_ENTRIES = 4_000_000
+#: LinearModel -> its banded layout (perm, lower, upper, band matrices), computed once
+_LAYOUTS = weakref.WeakKeyDictionary()
 
 
 def band_structure(*matrices):
@@ -44,6 +58,48 @@ def band_structure(*matrices):
     P = pattern[np.ix_(perm, perm)]
     rows, cols = np.nonzero(P)
     return perm, int(np.max(rows - cols, initial=0)), int(np.max(cols - rows, initial=0))
+
+
+def _layout(model):
+    """``(perm, lower, upper, names, B)`` of a linear model: its order, bands, and its matrices in band rows.
+
+    ``B`` (complex, shape (n (lower + upper + 1), k)) holds the band rows of
+    the k matrices among ``M, C, K, G, H`` that are not zero (``names``), one
+    per column: the dynamic stiffness of many points is ``B`` times their
+    coefficients (one matrix product, see :func:`_coefficients`).
+    """
+    layout = _LAYOUTS.get(model)
+    if layout is None:
+        from .banded import band_rows
+
+        matrices = {"M": model.mass, "C": model.damping, "K": model.stiffness, "G": model.gyroscopic,
+                    "H": model.circulatory}
+        terms = getattr(model, "speed_terms", None)
+        perm, lower, upper = band_structure(*matrices.values(), *(() if terms is None else (terms.pattern(),)))
+        bands = {name: band_rows(A[np.ix_(perm, perm)], lower, upper).reshape(-1) for name, A in matrices.items()}
+        names = tuple(name for name, b in bands.items() if b.any())
+        B = np.stack([bands[name] for name in names], axis=-1).astype(complex)
+        layout = perm, lower, upper, names, B
+        _LAYOUTS[model] = layout
+    return layout
+
+
+def _coefficients(names, W, w):
+    """Coefficient of each matrix in ``K + W H - w^2 M + i w (C + W G)`` at the points ``(W, w)``, shape (k, m)."""
+    factors = {"M": lambda: -(w * w), "C": lambda: 1j * w, "K": lambda: np.ones_like(w), "G": lambda: 1j * (w * W),
+               "H": lambda: W}
+    out = np.empty((len(names), w.size), dtype=complex)
+    for row, name in enumerate(names):
+        out[row] = factors[name]()
+    return out
+
+
+def harmonic_method(model, method="auto"):
+    """``"banded"`` or ``"dense"``: how :func:`solve_harmonic` solves ``model`` with ``method``."""
+    if method != "auto":
+        return method
+    _, lower, upper, _, _ = _layout(model)
+    return "banded" if lower + upper + 1 <= BANDED_FRACTION * model.n else "dense"
 
 
 def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
@@ -63,54 +119,51 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
     numpy.ndarray of complex, shape (m, n, r)
         Complex amplitudes of the coordinates (m, rad).
     """
-    M, C, K, G, H = model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory
-    speeds = np.asarray(speeds, dtype=float)
-    w = np.asarray(frequencies, dtype=float)
-    n = M.shape[0]
+    speeds = np.asarray(speeds, dtype=float).reshape(-1)
+    w = np.asarray(frequencies, dtype=float).reshape(-1)
+    n = model.n
     F = np.asarray(forces, dtype=complex)
     shared = F.ndim == 2
     r = F.shape[-1]
     out = np.empty((w.size, n, r), dtype=complex)
     terms = getattr(model, "speed_terms", None)  # entries not affine in the speed, exact at each one
-    extra = () if terms is None else (terms.pattern(),)
-    perm, lower, upper = band_structure(M, C, K, G, H, *extra)
-
-    def exact(k, om):
-        """Positions and complex values of the speed terms' part of the dynamic stiffness at point ``k``."""
-        v = np.asarray(terms.values(float(speeds[k])), dtype=complex)
-        v[terms.matrix == 1] *= 1j * om
-        return v
-    if method == "auto":
-        method = "banded" if lower + upper + 1 <= BANDED_FRACTION * n else "dense"
+    exact = None
+    if terms is not None:  # their values at every speed at once, complex: i w times the damping ones
+        exact = terms.values_at(speeds).astype(complex)
+        damping = terms.matrix == 1
+        exact[:, damping] *= 1j * w[:, None]
+    method = harmonic_method(model, method)
     if method == "banded":
-        from .banded import band_rows, solve_banded_many
+        from .banded import solve_banded_last
 
-        Mb, Cb, Kb, Gb, Hb = (band_rows(A[np.ix_(perm, perm)], lower, upper) for A in (M, C, K, G, H))
-        rhs_all = (F[perm] if shared else F[:, perm])
-        inverse = np.empty(n, dtype=np.int64)
-        inverse[perm] = np.arange(n)
+        perm, lower, upper, names, B = _layout(model)
+        width = lower + upper + 1
+        Fp = F[perm] if shared else F[:, perm]
         if terms is not None:  # band positions of the exact speed terms
+            inverse = np.empty(n, dtype=np.int64)
+            inverse[perm] = np.arange(n)
             term_rows = inverse[terms.rows]
             term_bands = lower + inverse[terms.cols] - term_rows
-        batch = max(1, _BATCH_ENTRIES // max(n * (lower + upper + 1), 1))
-        for start in range(0, w.size, batch):  # all speeds of a batch in one banded elimination
+        batch = max(1, _BATCH_ENTRIES // max(n * (width + r), 1))
+        for start in range(0, w.size, batch):  # all points of a batch in one banded elimination
             sl = slice(start, min(start + batch, w.size))
-            W, om = speeds[sl, None, None], w[sl, None, None]
-            ab = (Kb + W * Hb - om * om * Mb) + 1j * om * (Cb + W * Gb)
-            if terms is not None:
-                values = np.array([exact(k, w[k]) for k in range(sl.start, sl.stop)])
-                np.add.at(ab, (np.arange(ab.shape[0])[:, None], term_rows[None, :], term_bands[None, :]), values)
-            rhs = np.broadcast_to(rhs_all, (ab.shape[0],) + rhs_all.shape) if shared else rhs_all[sl]
-            out[sl][:, perm] = solve_banded_many(ab, lower, upper, rhs)
+            W, om = speeds[sl], w[sl]
+            # the dynamic stiffness in band rows, the points on the last axis: one matrix product
+            S = (B @ _coefficients(names, W, om)).reshape(n, width, om.size)
+            if exact is not None:
+                np.add.at(S, (term_rows, term_bands), exact[sl].T)
+            y = (np.broadcast_to(Fp[..., None], Fp.shape + (om.size,)) if shared
+                 else np.moveaxis(Fp[sl], 0, -1))
+            out[sl][:, perm] = np.moveaxis(solve_banded_last(S, lower, upper, y), -1, 0)
         return out
+    M, C, K, G, H = model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory
     batch = max(1, _BATCH_ENTRIES // max(n * n, 1))
     for start in range(0, w.size, batch):
         sl = slice(start, min(start + batch, w.size))
         W, om = speeds[sl, None, None], w[sl, None, None]
         D = K + W * H - om * om * M + 1j * om * (C + W * G)
-        if terms is not None:
-            for k in range(sl.start, sl.stop):
-                np.add.at(D[k - sl.start], (terms.rows, terms.cols), exact(k, w[k]))
+        if exact is not None:
+            np.add.at(D, (np.arange(D.shape[0])[:, None], terms.rows[None, :], terms.cols[None, :]), exact[sl])
         rhs = np.broadcast_to(F, (D.shape[0], n, r)) if shared else F[sl]
         out[sl] = np.linalg.solve(D, rhs)
     return out

@@ -54,6 +54,13 @@ def _namespace():
     return namespace
 
 
+def _scalar_rows(function, arrays):
+    """``function`` (of a list of free values) at each point of ``arrays`` (k arrays of m values): shape (m, ...)."""
+    m = max((a.size for a in arrays), default=1)
+    arrays = [np.broadcast_to(a, (m,)) for a in arrays]
+    return np.array([np.asarray(function([float(a[i]) for a in arrays]), dtype=float) for i in range(m)])
+
+
 class LinearMatrices:
     """``M``, ``C``, ``K`` of a linear model as numbers, except for a few free parameters (the swept speed).
 
@@ -105,6 +112,29 @@ class LinearMatrices:
         function = self._function
         return lambda free_values: np.asarray(function(list(free_values)), dtype=float)[mask]
 
+    def entries_function_many(self, mask):
+        """:meth:`entries_function` over many points at once: ``f(arrays)`` -> shape (m, k).
+
+        ``arrays`` holds one array of m values per free parameter (in
+        :attr:`free` order); the result row ``i`` equals
+        ``entries_function(mask)`` at point ``i`` (the same generated
+        expressions, evaluated by numpy over the points where they can be,
+        point by point otherwise).
+        """
+        mask = np.asarray(mask, dtype=bool)
+        scalar = self.entries_function(mask)
+        many = self._select(mask, True) if self._select is not None else None
+
+        def entries(arrays):
+            arrays = [np.asarray(a, dtype=float).reshape(-1) for a in arrays]
+            if many is not None:
+                out = many(arrays)
+                if out is not None:
+                    return out
+            return _scalar_rows(scalar, arrays).reshape(-1, int(mask.sum()))
+
+        return entries
+
     def dense(self, **free_values):
         """``(M, C, K)`` as dense numpy arrays, shape (n, n): :meth:`__call__` without scipy (small models)."""
         flat = self.variable_values(**free_values)
@@ -143,6 +173,7 @@ class LinearMatrices:
 def _from_module(module, values, t, free):
     """:class:`LinearMatrices` assembled from the cached element templates (:mod:`rotorkit.codegen.linear_cache`)."""
     from ..codegen.linear_cache import template_function
+    from .array_code import array_function, array_template_function
 
     if not module.LINEAR:
         return None
@@ -154,31 +185,50 @@ def _from_module(module, values, t, free):
     fixed = [[], [], []]  # per matrix: lists of (rows, cols, values) arrays
     moving = []  # per element with free entries: (template, selection, a, free slots, selection array,
     #              coordinates, not-affine flags)
+    arrays, splits, functions_of = {}, {}, {}  # per template (and its free locals): computed once, shared by
+    #                                              the elements of a template (the segments of a shaft)
+
+    def template_arrays(template):
+        if template not in arrays:
+            arrays[template] = tuple(np.asarray(x, dtype=np.int64) for x in module.TEMPLATES[template][:3])
+        return arrays[template]
+
+    def function_of(template, selection):
+        if (template, selection) not in functions_of:
+            functions_of[template, selection] = template_function(module, template, selection)
+        return functions_of[template, selection]
+
     for template, params, coords, _label in module.ELEMENTS:
-        matrix, lrows, lcols, _, depends, nonaffine = module.TEMPLATES[template][:6]
         coords = np.asarray(coords, dtype=np.int64)
         a = [p[k] for k in params]
         slots = [(local, free_slot[k]) for local, k in enumerate(params) if k in free_slot]
-        local_free = {local for local, _ in slots}
-        chosen = [e for e, d in enumerate(depends) if local_free.intersection(d)]
-        rest = [e for e, d in enumerate(depends) if not local_free.intersection(d)]
-        matrix, lrows, lcols = (np.asarray(x, dtype=np.int64) for x in (matrix, lrows, lcols))
+        local_free = frozenset(local for local, _ in slots)
+        split = splits.get((template, local_free))
+        if split is None:  # the entries that hold a free parameter (chosen) and the others (rest)
+            depends, nonaffine = module.TEMPLATES[template][4:6]
+            chosen = tuple(e for e, d in enumerate(depends) if local_free.intersection(d))
+            rest = tuple(e for e, d in enumerate(depends) if not local_free.intersection(d))
+            flags = [bool(local_free.intersection(nonaffine[e])) or not speed_like for e in chosen]
+            matrix = template_arrays(template)[0]
+            split = splits[template, local_free] = (chosen, rest, np.asarray(rest, dtype=np.int64),
+                                                    [matrix[np.asarray(rest, dtype=np.int64)] == w for w in range(3)],
+                                                    flags)
+        chosen, rest, rest_array, rest_masks, flags = split
+        matrix, lrows, lcols = template_arrays(template)
         if rest:
-            vals = np.array(template_function(module, template, tuple(rest))(a, t), dtype=float)
-            rest = np.asarray(rest)
+            vals = np.array(function_of(template, rest)(a, t), dtype=float)
             for which in range(3):
-                mask = matrix[rest] == which
-                fixed[which].append((coords[lrows[rest[mask]]], coords[lcols[rest[mask]]], vals[mask]))
+                mask = rest_masks[which]
+                fixed[which].append((coords[lrows[rest_array[mask]]], coords[lcols[rest_array[mask]]], vals[mask]))
         if chosen:
-            moving.append((template, tuple(chosen), a, slots, np.asarray(chosen), coords,
-                           [bool(local_free.intersection(nonaffine[e])) or not speed_like for e in chosen]))
+            moving.append((template, chosen, a, slots, np.asarray(chosen), coords, flags))
     constant, variable, order, nonaffine = [], [], [], []
     for which in range(3):
         parts = fixed[which] or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
         constant.append(tuple(np.concatenate([part[k] for part in parts]) for k in range(3)))
         vrows, vcols = [], []
         for m, (template, _, _, _, chosen, coords, flags) in enumerate(moving):
-            matrix, lrows, lcols = (np.asarray(x, dtype=np.int64) for x in module.TEMPLATES[template][:3])
+            matrix, lrows, lcols = template_arrays(template)
             mask = matrix[chosen] == which
             vrows.append(coords[lrows[chosen[mask]]])
             vcols.append(coords[lcols[chosen[mask]]])
@@ -186,7 +236,7 @@ def _from_module(module, values, t, free):
             nonaffine.extend(f for f, keep in zip(flags, mask) if keep)
         variable.append((np.concatenate(vrows) if vrows else np.zeros(0, np.int64),
                          np.concatenate(vcols) if vcols else np.zeros(0, np.int64)))
-    functions = [template_function(module, template, selection) for template, selection, *_ in moving]
+    functions = [function_of(template, selection) for template, selection, *_ in moving]
     starts = np.cumsum([0] + [len(x[1]) for x in moving])
     gather = np.array([starts[m] + k for m, k in order], dtype=np.int64)
 
@@ -200,16 +250,19 @@ def _from_module(module, values, t, free):
             out.extend(f(a, t))
         return np.asarray(out, dtype=float)[gather] if out else np.zeros(0)
 
-    def select(mask):
+    def select(mask, many=False):
         picked = [order[i] for i in np.flatnonzero(mask)]
         by_element = {}
         for position, (m, k) in enumerate(picked):
             by_element.setdefault(m, []).append((position, k))
-        parts = []
+        parts, sources = [], []
         for m, items in by_element.items():
             template, selection, a, slots = moving[m][:4]
-            f = template_function(module, template, tuple(selection[k] for _, k in items))
-            parts.append((f, a, slots, np.array([position for position, _ in items], dtype=np.int64)))
+            chosen = tuple(selection[k] for _, k in items)
+            f = template_function(module, template, chosen)
+            parts.append((array_function(f) if many else f, a, slots,
+                          np.array([position for position, _ in items], dtype=np.int64)))
+            sources.append((template, chosen))
 
         def entries(free_values):
             out = np.empty(len(picked))
@@ -221,7 +274,33 @@ def _from_module(module, values, t, free):
                 out[positions] = f(a, t)
             return out
 
-        return entries
+        def evaluate(functions, arrays):
+            out = np.empty((len(picked), max((x.size for x in arrays), default=1)))
+            for f, (_, a, slots, positions) in zip(functions, parts):
+                if slots:
+                    a = list(a)
+                    for local, k in slots:
+                        a[local] = arrays[k]
+                for position, value in zip(positions, f(a, t)):
+                    out[position] = value
+            return out
+
+        def entries_many(arrays):
+            """Shape (m, k) over the points of ``arrays`` (one per free parameter), or None if numpy cannot."""
+            try:
+                with np.errstate(all="raise", under="ignore"):  # anything unusual: the scalar code decides
+                    return evaluate([part[0] for part in parts], arrays).T
+            except Exception:
+                pass
+            try:  # conditional expressions (guarded pieces): rewritten to numpy.where of both branches
+                rewritten = [array_template_function(module, template, chosen) for template, chosen in sources]
+                with np.errstate(all="ignore"):  # the branch not taken may divide by zero
+                    out = evaluate(rewritten, arrays)
+            except Exception:  # code numpy cannot run on arrays (erf...): point by point
+                return None
+            return out.T if np.all(np.isfinite(out)) else None
+
+        return entries_many if many else entries
 
     return LinearMatrices(int(module.N_COORDINATES), tuple(free), constant, variable, function, nonaffine, select)
 

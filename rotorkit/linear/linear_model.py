@@ -77,6 +77,10 @@ class SpeedTerms:
     values : callable
         ``values(W)`` -> numpy.ndarray, shape (m,): the remainders (SI) at
         the swept speed ``W`` (rad/s).
+    many : callable, optional
+        ``many(W)`` -> numpy.ndarray, shape (k, m): the same at k speeds
+        ``W`` (shape (k,)) at once, row ``i`` equal to ``values(W[i])``
+        (default: ``values`` at each speed).
     """
 
     n: int
@@ -84,6 +88,17 @@ class SpeedTerms:
     rows: np.ndarray
     cols: np.ndarray
     values: object
+    many: object = None
+
+    def values_at(self, speeds):
+        """The remainders at each of ``speeds`` (rad/s, shape (k,)), shape (k, m); a repeated speed is evaluated once."""
+        speeds = np.asarray(speeds, dtype=float).reshape(-1)
+        unique, inverse = np.unique(speeds, return_inverse=True)
+        if self.many is not None:
+            out = np.asarray(self.many(unique), dtype=float)
+        else:
+            out = np.array([np.asarray(self.values(float(w)), dtype=float) for w in unique])
+        return out.reshape(unique.size, self.matrix.size)[inverse.reshape(-1)]
 
     def __call__(self, speed):
         """``(dC, dK)`` at the swept speed ``speed`` (rad/s), dense, shape (n, n)."""
@@ -107,9 +122,10 @@ class SpeedTerms:
         keep = self.matrix == 2
         if not keep.any():
             return None
-        values = self.values
+        values, many = self.values, self.many
         return SpeedTerms(n=self.n, matrix=self.matrix[keep], rows=self.rows[keep], cols=self.cols[keep],
-                          values=lambda w: np.asarray(values(w))[keep])
+                          values=lambda w: np.asarray(values(w))[keep],
+                          many=None if many is None else lambda w: np.asarray(many(w))[:, keep])
 
 
 @dataclass(frozen=True, eq=False)
@@ -394,10 +410,10 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         from ``W0``).
     """
     from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
-    from .linearize import check_system
-    from .modes import DEFAULT_CAGE_SAMPLES, averaged_jacobian
 
     if not (hasattr(system, "compile") and hasattr(system, "equations")):
+        from .linearize import check_system
+
         check_system(system, "linear_model")
     model, speed_parameter = frozen_system(system, speed_parameter, speed, t)
     values = model.parameters
@@ -417,7 +433,9 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         C, K = C0 - w0 * G, K0 - w0 * H
         if speed_dependence == "exact":
             terms = _speed_terms(evaluator, speed_parameter, w0, dw)
-    else:
+    else:  # not linear: the compiled system linearised at its equilibrium (modes imported only here)
+        from .modes import DEFAULT_CAGE_SAMPLES, averaged_jacobian
+
         source = getattr(system, "model", system)
         target = system if model is source and hasattr(system, "rhs") else model.compile(
             backend=getattr(system, "backend", "auto"))
@@ -459,10 +477,15 @@ def _speed_terms(evaluator, speed_parameter, w0, dw):
         return None
     which, rows, cols = (a[mask] for a in evaluator.variable_entries)
     values = evaluator.entries_function(mask)
+    many = evaluator.entries_function_many(mask)
     v0 = values([w0])
     slope = (values([w0 + dw]) - v0) / dw
 
     def remainder(w):
         return values([w]) - v0 - (w - w0) * slope
 
-    return SpeedTerms(n=evaluator.n, matrix=which, rows=rows, cols=cols, values=remainder)
+    def remainders(speeds):
+        speeds = np.asarray(speeds, dtype=float).reshape(-1)
+        return many([speeds]) - v0 - (speeds[:, None] - w0) * slope
+
+    return SpeedTerms(n=evaluator.n, matrix=which, rows=rows, cols=cols, values=remainder, many=remainders)

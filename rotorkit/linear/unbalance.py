@@ -236,8 +236,8 @@ def _singular(model, W, w, rotor, method):
             ok = False
         if not ok:
             break
-    D = (model.stiffness + W[k] * model.circulatory - w[k] ** 2 * model.mass
-         + 1j * w[k] * (model.damping + W[k] * model.gyroscopic))
+    M, C, K = model.matrices(W[k])  # speed terms included, exact at this speed
+    D = K - w[k] ** 2 * M + 1j * w[k] * C
     shape = np.abs(np.linalg.svd(D)[2][-1].conj())  # the null vector: the mode at this frequency
     largest = [model.coordinate_names[i] for i in np.argsort(-shape)[:2] if shape[i] > 1e-3 * shape.max()]
     return ParameterError(
@@ -306,12 +306,9 @@ def unbalance_response(model, unbalances, speeds, *, method="auto", **linearisat
         F[ix] += u.magnitude * np.exp(1j * u.angle)
         F[iy] += -1j * u.magnitude * np.exp(1j * u.angle)
     spins = model.spin_speeds(W)
-    from .harmonic import BANDED_FRACTION, band_structure
+    from .harmonic import harmonic_method
 
-    extra = () if model.speed_terms is None else (model.speed_terms.pattern(),)
-    _, lo, up = band_structure(model.mass, model.damping, model.stiffness, model.gyroscopic, model.circulatory,
-                               *extra)
-    used = method if method != "auto" else ("banded" if lo + up + 1 <= BANDED_FRACTION * n else "dense")
+    used = harmonic_method(model, method)
     components, frequencies = {}, {}
     for rotor, F in by_rotor.items():
         w = np.abs(spins[rotor])
