@@ -195,7 +195,7 @@ def test_misses_are_not_the_grid():
 def test_without_the_supply_line_the_attitude_at_small_eccentricity_misses():
     """The plain 360 degree film (PlainJournalBearing without grooves: no line held at ambient pressure) at the
     printed S of L/D = 1, eps = 0.1: its film re-forms downstream of the maximum film thickness, the attitude is
-    more than 3 deg above Raimondi & Boyd's 79.5 (the supplied film: within 0.15 deg)."""
+    more than 3 deg above Raimondi & Boyd's 79.5 (measured 4.4; the supplied film: within 0.15 deg, measured 0.11)."""
     from rotorkit.fluidfilm import PlainJournalBearing
 
     D, C, MU, W = 0.1, 1e-4, 0.03, 5000.0
