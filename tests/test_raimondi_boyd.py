@@ -8,8 +8,9 @@ starting at ambient pressure at the maximum film thickness (the oil supply) and 
 variable ``Q / (R c N L)`` (``Q`` the flow into the film at its start), side-flow ratio ``Qs / Q`` (both ends) and
 ``P / p_max`` (``P = W / (L D)``). The printed values as transcribed in github.com/Piter-T-UC/MecaPy,
 ``mecapy/mecapy/bearings/lubrication_data.py`` (from the table reproduced with Shigley's charts); the L/D = 1
-``S``, ``phi`` and ``(R/c) f`` columns agree with two independent transcriptions (MATLAB Answers 707318: ``S`` and
-``(R/c) f`` at six rows; a ROTORDIN validation script: ``S`` and ``phi`` at eps = 0.2 - 0.8).
+``S``, ``phi`` and ``(R/c) f`` columns agree with two independent transcriptions (mathworks.com/matlabcentral/answers/
+707318: ``S`` and ``(R/c) f`` at six rows, one ``f`` rounded to 3.2; the ROTORDIN app's validation script: ``S`` and
+``phi`` at eps = 0.2 - 0.8), all three with ``S = 0.264`` at eps = 0.4 (whose printed friction says 0.2606, below).
 
 The film here: :func:`rotorkit.fluidfilm.solve_film` with the journal at ``(eps, 0)`` and the line
 ``theta = pi`` (the maximum film thickness) held at ambient pressure over the whole length (``ambient=``), the
@@ -22,8 +23,9 @@ The rule for "within printed precision": ``eps`` is Raimondi & Boyd's input (exa
 to three significant digits (the attitude to 0.01 or 0.1 degree). At the printed ``S``, the computed eccentricity
 ratio is within the interval the rounding of ``S`` leaves, ``0.5 ulp(S) / |dS/deps|``, and the attitude within half
 a unit of its last digit plus ``|dphi/deps|`` times that interval; ``(R/c) f``, ``Q / (R c N L)``, ``Qs / Q`` and
-``P / p_max`` at the tabulated ``eps`` within half a unit of their third digit. The entries that miss are listed in
-``MISSES`` with their measured miss rounded up and the reason (docs/fluid-film-bearings.md, "Raimondi & Boyd").
+``P / p_max`` at the tabulated ``eps`` within half a unit of their third digit. Beyond it, what the tests allow
+(``EPS_MISS``, ``PHI_MISS``, ``allowed``) is the measured miss rounded up, with the reasons below and per entry in
+docs/fluid-film-bearings.md ("Raimondi & Boyd").
 """
 
 from __future__ import annotations
@@ -172,14 +174,12 @@ def test_eccentricity_and_attitude_at_the_printed_sommerfeld_number(slenderness)
 
 @pytest.mark.parametrize("slenderness", [1.0, 0.5, 0.25])
 def test_friction_flow_side_flow_and_peak_pressure_at_the_tabulated_eccentricity(slenderness):
+    # the flow into the film within printed precision on every row (allowed("flow", ...) is the precision)
     for eps, s, phi, *printed in RAIMONDI_BOYD[slenderness]:
         computed = performance(slenderness, eps, **GRID)
         for column, value in zip(COLUMNS[3:], printed):
             assert abs(computed[column] / value - 1) <= allowed(column, slenderness, eps, value) + 1e-12, \
                 (slenderness, eps, column, computed[column], value)
-    # the flow into the film is within printed precision on every row (the strictest check of the pressure field)
-    for eps, s, phi, friction, flow, *_ in RAIMONDI_BOYD[slenderness]:
-        assert abs(performance(slenderness, eps, **GRID)["flow"] - flow) <= half_unit(flow)
 
 
 def test_misses_are_not_the_grid():
@@ -210,7 +210,7 @@ def test_without_the_supply_line_the_attitude_at_small_eccentricity_misses():
 def test_printed_friction_is_the_full_circumference_shear_of_the_printed_statics():
     """Raimondi & Boyd's friction variable is ``2 pi^2 S / sqrt(1 - eps^2) + (eps / 2) sin(phi)`` of their printed
     ``S`` and ``phi`` (Couette shear over the whole circumference, none removed where the film cavitates), to the
-    rounding of ``S`` and ``f`` (within 2.5 units of the third digit of ``f``) on every row but one: L/D = 1,
+    rounding of ``S`` and ``f`` (measured: within 0.9 units of the third digit of ``f``) on every row but one: L/D = 1,
     eps = 0.4, whose printed friction 5.79 is that of ``S = 0.2606`` (this film's 0.2605 - 0.2608), not of the
     printed 0.264."""
     for slenderness, rows in RAIMONDI_BOYD.items():
