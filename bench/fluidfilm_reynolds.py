@@ -13,7 +13,14 @@ Prints
    flow Q against the printed ones, and each of the eight coefficients' difference in % of the printed entry
    (stiffness in the Databook's rigid-turn convention; k_yx also in % of the largest stiffness, it changes sign
    near eps = 0.7); and how closely the printed stiffness obeys the rigid turn;
-3. medians of one cavitated film solve on a 60 x 20 grid and of ``coefficients`` per speed (72 x 12, and 144 x 12
+3. Raimondi & Boyd (1958), full journal bearing, L/D = 1, 0.5, 0.25 (the printed table as transcribed in
+   github.com/Piter-T-UC/MecaPy, mecapy/mecapy/bearings/lubrication_data.py), the film fed at ambient pressure at
+   the maximum film thickness: at each tabulated eps, the eccentricity ratio and attitude at the printed S, and
+   the friction variable, inlet flow, side-flow ratio and P/p_max at the tabulated eps against the printed ones
+   (% and units of the last printed digit), on 144 x 12 and 288 x 24 nodes; S and phi at the tabulated eps on
+   144 x 12, 288 x 24 and 576 x 48 (grid convergence); the printed friction against the formula of the printed
+   S and phi;
+4. medians of one cavitated film solve on a 60 x 20 grid and of ``coefficients`` per speed (72 x 12, and 144 x 12
    with the Databook's grooves), with the load average.
 """
 
@@ -143,6 +150,89 @@ def someya(quick):
                   + f" | {100 * (computed[2] - printed[2]) / np.abs(printed[:4]).max():+5.1f}   {elapsed:.2f} s")
 
 
+RAIMONDI_BOYD = {  # eps, S, phi (deg), (R/c) f, Q / (R c N L), Qs / Q, P / p_max
+    1.0: [(0.1, 1.33, 79.5, 26.4, 3.37, 0.150, 0.540), (0.2, 0.631, 74.02, 12.8, 3.59, 0.280, 0.529),
+          (0.4, 0.264, 63.10, 5.79, 3.99, 0.497, 0.484), (0.6, 0.121, 50.58, 3.22, 4.33, 0.680, 0.415),
+          (0.8, 0.0446, 36.24, 1.70, 4.62, 0.842, 0.313), (0.9, 0.0188, 26.45, 1.05, 4.74, 0.919, 0.247),
+          (0.97, 0.00474, 15.47, 0.514, 4.82, 0.973, 0.152)],
+    0.5: [(0.1, 4.31, 81.62, 85.6, 3.43, 0.173, 0.523), (0.2, 2.03, 74.94, 40.9, 3.72, 0.318, 0.506),
+          (0.4, 0.779, 61.45, 17.0, 4.29, 0.552, 0.441), (0.6, 0.319, 48.14, 8.10, 4.85, 0.730, 0.365),
+          (0.8, 0.0923, 33.31, 3.26, 5.41, 0.874, 0.267), (0.9, 0.0313, 23.66, 1.60, 5.69, 0.939, 0.206),
+          (0.97, 0.00609, 13.75, 0.610, 5.88, 0.980, 0.126)],
+    0.25: [(0.1, 16.2, 82.31, 322.0, 3.45, 0.180, 0.515), (0.2, 7.57, 75.18, 153.0, 3.76, 0.330, 0.489),
+           (0.4, 2.83, 60.86, 61.1, 4.37, 0.567, 0.415), (0.6, 1.07, 46.72, 26.7, 4.99, 0.746, 0.334),
+           (0.8, 0.261, 31.04, 8.80, 5.60, 0.884, 0.240), (0.9, 0.0736, 21.85, 3.50, 5.91, 0.945, 0.180),
+           (0.97, 0.0101, 12.22, 0.922, 6.12, 0.984, 0.108)],
+}
+
+
+def _half_unit(value):
+    """Half a unit in the third significant digit of a printed value."""
+    return 0.5 * 10.0 ** (math.floor(math.log10(abs(value))) - 2)
+
+
+def _supplied(ld, eps, n_theta, n_z):
+    """The film at (eps, 0) fed at ambient pressure at the maximum film thickness (theta = pi)."""
+    supply = np.zeros(n_theta, bool)
+    supply[n_theta // 2] = True
+    return solve_film(FilmGrid(slenderness=ld, n_theta=n_theta, n_z=n_z), (eps, 0.0), ambient=supply)
+
+
+def _s_phi(solution):
+    f = solution.force
+    return 2 / (math.pi * math.hypot(*f)), (-math.degrees(math.atan2(-f[1], -f[0])) + 180.0) % 360.0 - 180.0
+
+
+def _design_variables(ld, eps, solution):
+    """(R/c) f, Q / (R c N L), Qs / Q, P / p_max of a supplied film (as tests/test_raimondi_boyd.py)."""
+    s, phi = _s_phi(solution)
+    g, P = solution.grid, solution.pressure
+    H = 1 - eps * np.cos(g.theta)
+    i = g.n_theta // 2
+    flux = H[i] / 2 - H[i] ** 3 / 12 * (-3 * P[i] + 4 * P[i + 1] - P[i + 2]) / (2 * g.dtheta)
+    weights = np.full(g.n_z, 2.0 / g.n_z)
+    weights[0] = 1.0 / g.n_z
+    flow = math.pi * (flux @ weights + H[i] / 2 / g.n_z)
+    side = math.pi / 6 / ld**2 * np.sum(H**3 * (4 * P[:, -1] - P[:, -2]) / (2 * g.dz)) * g.dtheta
+    friction = 2 * math.pi**2 * s / math.sqrt(1 - eps**2) + eps / 2 * math.sin(math.radians(phi))
+    return friction, flow, side / flow, 1 / (2 * math.pi * s * P.max())
+
+
+def raimondi_boyd(quick):
+    from scipy.optimize import brentq
+
+    print("3. Raimondi & Boyd full journal bearing, film fed at ambient pressure at the maximum film thickness")
+    print("   printed (R/c) f against 2 pi^2 S / sqrt(1 - eps^2) + (eps / 2) sin(phi) of the printed S, phi "
+          "(units of the third digit of f)")
+    for ld, rows in RAIMONDI_BOYD.items():
+        misses = [(2 * math.pi**2 * s / math.sqrt(1 - eps**2) + eps / 2 * math.sin(math.radians(phi)) - f)
+                  / (2 * _half_unit(f)) for eps, s, phi, f, *_ in rows]
+        print(f"   L/D = {ld}: " + " ".join(f"{m:+.1f}" for m in misses))
+    grids = ((144, 12), (288, 24)) + (() if quick else ((576, 48),))
+    print("   grid convergence, S (%) and phi (deg) at the tabulated eps against the printed ones, grids "
+          + ", ".join(f"{a} x {b}" for a, b in grids))
+    for ld, rows in RAIMONDI_BOYD.items():
+        for eps, s, phi, *_ in rows:
+            cells = []
+            for n_theta, n_z in grids:
+                s_c, phi_c = _s_phi(_supplied(ld, eps, n_theta, n_z))
+                cells.append(f"{100 * (s_c / s - 1):+6.2f} % {phi_c - phi:+6.2f}")
+            print(f"   {ld:<4} {eps:<4} " + " | ".join(cells))
+    names = ("(R/c)f", "Q/RcNL", "Qs/Q", "P/pmax")
+    for n_theta, n_z in grids[:2]:
+        print(f"   grid {n_theta} x {n_z}: at the printed S, d eps and d phi (deg); at the tabulated eps, each "
+              "design variable's difference in % of the printed one [units of its third digit]")
+        for ld, rows in RAIMONDI_BOYD.items():
+            for eps, s, phi, *printed in rows:
+                eps_c = brentq(lambda e: math.log(_s_phi(_supplied(ld, e, n_theta, n_z))[0] / s),
+                               max(eps - 0.03, 0.01), min(eps + 0.015, 0.985), xtol=1e-7)
+                phi_c = _s_phi(_supplied(ld, eps_c, n_theta, n_z))[1]
+                computed = _design_variables(ld, eps, _supplied(ld, eps, n_theta, n_z))
+                cells = " ".join(f"{n} {100 * (c / p - 1):+5.2f} [{(c - p) / (2 * _half_unit(p)):+5.1f}]"
+                                 for n, c, p in zip(names, computed, printed))
+                print(f"   {ld:<4} {eps:<4} {eps_c - eps:+.4f} {phi_c - phi:+5.2f} | {cells}")
+
+
 def _median_times(fn, repeats):
     """(wall, cpu) medians in seconds: the cpu time of this process is less sensitive to a shared machine's load."""
     wall, cpu = [], []
@@ -155,7 +245,7 @@ def _median_times(fn, repeats):
 
 
 def timings(repeats):
-    print(f"3. times (load average {os.getloadavg()[0]:.1f}, medians of {repeats} runs, wall / cpu)")
+    print(f"4. times (load average {os.getloadavg()[0]:.1f}, medians of {repeats} runs, wall / cpu)")
     grid = FilmGrid(slenderness=0.5, n_theta=60, n_z=20)
     solve_film(grid, (0.6, 0.0))
     wall, cpu = _median_times(lambda: solve_film(grid, (0.6, 0.0)), repeats)
@@ -176,4 +266,5 @@ if __name__ == "__main__":
     short_limit()
     grid_scatter()
     someya(quick)
+    raimondi_boyd(quick)
     timings(5 if quick else 20)
