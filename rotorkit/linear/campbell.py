@@ -366,8 +366,10 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
 
 #: models with more coordinates than this solve only their lowest modes (sparse shift-invert iteration)
 SPARSE_SIZE = 100
-#: the shapes computed at a speed: those of the tracked modes and this many more (doubled while the tracking
-#: could pick a mode beyond them)
+#: the shapes computed at a speed: those of the modes whose damped frequency was within this factor of the
+#: highest tracked one at the previous speed (at least the tracked ones and EXTRA_SHAPES more); all of them when
+#: the tracking could still pick a mode beyond
+FREQUENCY_REACH = 1.25
 EXTRA_SHAPES = 2
 
 
@@ -413,15 +415,30 @@ def _frequency_cost(frequencies, previous_freqs):
     return np.nan_to_num(np.minimum(rel, 10.0), nan=10.0)
 
 
-def _solve_matched(modes_at, speed, previous_shapes, previous_freqs, count):
-    """``(modes, columns)`` at ``speed``: the shapes of the lowest modes, as many as the tracking needs."""
-    vectors = count if previous_shapes is None else count + EXTRA_SHAPES
-    while True:
-        modes = modes_at(speed, vectors)
-        cols, certain = _match(previous_shapes, previous_freqs, modes, count)
-        if certain or len(modes) < vectors:  # len < vectors: every oscillatory mode is there
-            return modes, cols
-        vectors *= 2
+def _solve_matched(modes_at, speed, previous_shapes, previous_freqs, count, previous_spectrum=None):
+    """``(modes, columns)`` at ``speed``: the shapes of the lowest modes, as many as the tracking needs.
+
+    The modes that can continue the tracked ones lie near them in frequency: shapes are computed for those
+    within :data:`FREQUENCY_REACH` of the highest tracked frequency at the previous speed (whose spectrum
+    ``previous_spectrum`` predicts the count), and for all modes where :func:`_match` cannot rule out that a
+    mode left out would be picked.
+    """
+    from .modal import oscillatory_order
+
+    if previous_shapes is None:
+        vectors = count
+    else:
+        vectors = count + EXTRA_SHAPES
+        if previous_spectrum is not None and np.any(np.isfinite(previous_freqs)):
+            lam = previous_spectrum[oscillatory_order(previous_spectrum)]
+            reach = FREQUENCY_REACH * float(np.nanmax(np.abs(previous_freqs)))
+            vectors = max(vectors, int(np.count_nonzero(lam.imag <= reach)) + 1)
+    modes = modes_at(speed, vectors)
+    cols, certain = _match(previous_shapes, previous_freqs, modes, count)
+    if certain or len(modes) < vectors:  # len < vectors: every oscillatory mode is there
+        return modes, cols
+    modes = modes_at(speed, None)
+    return modes, _match(previous_shapes, previous_freqs, modes, count)[0]
 
 
 #: most speeds a Campbell diagram is computed at
@@ -542,7 +559,8 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     lines = None
     spectra = []  # per speed: every eigenvalue (the gaps that keep a Newton refinement on its mode)
     for i, speed in enumerate(w):
-        modes, cols = _solve_matched(modes_at, float(speed), prev_shapes, prev_freqs, count)
+        modes, cols = _solve_matched(modes_at, float(speed), prev_shapes, prev_freqs, count,
+                                     spectra[-1] if spectra else None)
         radius[i] = float(np.max(np.abs(modes.all_eigenvalues))) if modes.all_eigenvalues.size else 0.0
         if prev_shapes is None:
             count = len(cols)
@@ -587,7 +605,8 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
             if followed is not None:
                 value, shape = followed
                 return value, shape_whirl(shape[:, None], names, positions)[0][0]
-        modes, (c,) = _solve_matched(modes_at, speed, tracked_shapes[j][:, [k]], np.array([damped[j, k]]), 1)
+        modes, (c,) = _solve_matched(modes_at, speed, tracked_shapes[j][:, [k]], np.array([damped[j, k]]), 1,
+                                     spectra[j])
         if c is None:
             return complex("nan"), ""
         return modes.eigenvalues[c], modes.whirl[c]

@@ -406,7 +406,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
     if sparse is None:
         sparse = n_modes is not None and 2 * n > 4 * int(n_modes) + 20
     Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
-    damping = Mm @ -A[n:, n:]
+    damping = (-A[n:, n:] if mass is None else Mm @ -A[n:, n:]) if left else None  # C: for the left shapes
     if sparse and n_modes is not None:
         eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
         index = oscillatory_order(eigenvalues)
