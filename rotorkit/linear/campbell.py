@@ -284,14 +284,14 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
     """(modes_at(speed, vectors=None), spins_at(speed), parameter name) for a LinearModel, a System or a Model.
 
     ``modes_at(speed, vectors)`` gives every eigenvalue and, where it can
-    (a linear model of at most ``SPARSE_SIZE`` coordinates), the shapes of
+    (a linear model of at most :data:`~rotorkit.linear.modal.DENSE_SIZE` coordinates), the shapes of
     the ``vectors`` lowest modes alone (None: of all).
     """
     from .linear_model import LinearModel, frozen_system, linear_model
-    from .modal import modes_from_matrices, modes_from_state_matrix, state_matrix
+    from .modal import DENSE_SIZE, modes_from_matrices, modes_from_state_matrix, state_matrix
 
     def sparse_count(n):
-        return int(n_modes) + 4 if n_modes is not None and n > SPARSE_SIZE else None  # sparse solve for big models
+        return int(n_modes) + 4 if n_modes is not None and n > DENSE_SIZE else None  # sparse solve for big models
 
     def dense_modes(state_at, names, positions):
         """modes_at(w, vectors) of a dense state matrix; a speed asked again (more vectors) reuses its eigenvalues."""
@@ -364,8 +364,6 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
     return relinearized_modes_at, spins_at, speed_parameter
 
 
-#: models with more coordinates than this solve only their lowest modes (sparse shift-invert iteration)
-SPARSE_SIZE = 100
 #: the shapes computed at a speed: those of the modes whose damped frequency was within this factor of the
 #: highest tracked one at the previous speed (at least the tracked ones and EXTRA_SHAPES more); all of them when
 #: the tracking could still pick a mode beyond

@@ -37,7 +37,8 @@ from ..errors import ParameterError
 from .tables import DEFAULT_TABLE_MODES, csv_output
 from .whirl import orbit, reference_length, shape_whirl, slope_orbit, station_pairs, tilt_pairs
 
-__all__ = ["Modes", "modes_from_matrices", "modes_from_state_matrix", "oscillatory_order", "state_matrix"]
+__all__ = ["Modes", "modes_from_matrices", "modes_from_state_matrix", "oscillatory_order", "sparse_pays",
+           "state_matrix"]
 
 #: A pair is oscillatory when Im(lambda) exceeds this fraction of |lambda|.
 OSCILLATORY_RTOL = 1e-9
@@ -385,7 +386,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
         With ``n_modes``: True for the Arnoldi iteration, False for the
         dense eigenvalues (all of them) with the vectors of the ``n_modes``
         modes alone; None (default) chooses the Arnoldi iteration when
-        ``2 n > 4 n_modes + 20``.
+        more than :data:`DENSE_SIZE` coordinates and ``2 n > 4 n_modes + 20``.
     spectrum : numpy.ndarray of complex, shape (2n,), optional
         Every eigenvalue of ``A``, when already known (the dense solution
         with few vectors then computes the vectors alone).
@@ -404,7 +405,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
     n = len(names)
     n_modes = check_count(n_modes)
     if sparse is None:
-        sparse = n_modes is not None and 2 * n > 4 * int(n_modes) + 20
+        sparse = n_modes is not None and sparse_pays(n, n_modes)
     Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
     damping = (-A[n:, n:] if mass is None else Mm @ -A[n:, n:]) if left else None  # C: for the left shapes
     if sparse and n_modes is not None:
@@ -437,6 +438,19 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
     if W is not None:  # the lower half of a left state vector is M^H y (y: left coordinate vector)
         Y = np.linalg.solve(Mm.conj().T, W[n:]) if mass is not None else W[n:]
     return _modes(eigenvalues, eigenvalues[index], X[:n], Y, names, Mm, damping, fields, n_modes)
+
+
+#: models with at most this many coordinates solve all eigenvalues densely, also for a few modes (n_modes)
+DENSE_SIZE = 100
+
+
+def sparse_pays(n, n_modes):
+    """Whether the ``n_modes`` lowest modes of ``n`` coordinates are solved by shift-invert Arnoldi iteration.
+
+    For more than :data:`DENSE_SIZE` coordinates and ``2 n > 4 n_modes + 20``; below, the dense eigenvalues
+    (milliseconds, no scipy import) with the vectors of the modes kept.
+    """
+    return n > DENSE_SIZE and 2 * n > 4 * int(n_modes) + 20
 
 
 #: the dense solution finds the kept modes' vectors by inverse iteration when they are at most n / FEW_VECTORS
@@ -493,13 +507,15 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
         Compute the left shapes too.
     n_modes : int, optional
         Only the ``n_modes`` modes of smallest ``|lambda|``. For large models
-        (``2 n > 4 n_modes + 20``) they are found by shift-invert Arnoldi
+        (:func:`sparse_pays`: more than :data:`DENSE_SIZE` coordinates and
+        ``2 n > 4 n_modes + 20``) they are found by shift-invert Arnoldi
         iteration (:func:`scipy.sparse.linalg.eigs`) on the pencil of the
         first-order form, each step one sparse LU solve with
         ``K + s C + s^2 M`` (``n x n``, factored once; the dense
         ``M^-1 K`` is never formed), so the cost grows with the bandwidth,
-        not with ``n^3``. Otherwise, and when the iteration fails, all modes
-        come from the dense eigen-solution of the state matrix.
+        not with ``n^3``. Otherwise, and when the iteration fails, they come
+        from the dense eigen-solution of the state matrix
+        (:func:`modes_from_state_matrix`).
     sparse : bool, optional
         As in :func:`modes_from_state_matrix`: False for the dense
         eigenvalues with the vectors of the ``n_modes`` modes alone.
@@ -510,7 +526,7 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
     n_modes = check_count(n_modes)
     dense = [np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
              for A in (mass, damping, stiffness)]
-    if n_modes is not None and (2 * n > 4 * int(n_modes) + 20 if sparse is None else sparse):
+    if n_modes is not None and (sparse_pays(n, n_modes) if sparse is None else sparse):
         solved = _lowest_pencil_eigenpairs(mass, damping, stiffness, int(n_modes), left)
         if solved is not None:
             eigenvalues, X, Y = solved
