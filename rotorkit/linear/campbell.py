@@ -10,7 +10,12 @@ from one speed to the next by the modal assurance criterion (MAC) of their
 shapes, ``|a^H b|^2 / (|a|^2 |b|^2)``, with an optimal assignment
 (:func:`rotorkit.analysis.roots.assignment`), not by sorting frequencies:
 a forward and a backward mode that cross keep their identity (their
-circular shapes are orthogonal).
+circular shapes are orthogonal). At each speed every eigenvalue is
+computed but, for a dense model, the shapes of the modes near the tracked
+ones in frequency alone (inverse iteration,
+:mod:`rotorkit.linear.inverse_iteration`); where the assignment could still
+pick a mode left out (bounded by the frequency part of its cost), the
+shapes of all: the diagram is the one all shapes give.
 
 On every grid interval where a tracked damped frequency crosses an
 excitation line ``order x spin speed`` of a rotor, the critical speed is

@@ -398,9 +398,12 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
     The dense solution computes the eigenvalues alone
     (:func:`numpy.linalg.eigvals`) and the vectors of the modes kept by
     inverse iteration (:func:`~rotorkit.linear.inverse_iteration.state_eigenvectors`)
-    when they are few (at most ``n / 5``: cheaper than all the vectors);
-    otherwise every right vector by :func:`numpy.linalg.eig`, and the left
-    ones by inverse iteration (no scipy import) unless the model is large.
+    when they are few (``n_modes <= n / 5``: then cheaper than all the
+    vectors); otherwise every right vector by :func:`numpy.linalg.eig`, and
+    the left ones by inverse iteration (no scipy import) unless
+    ``n^4 > LEFT_ITERATION_WORK`` (about ``n > 119``: scipy's
+    :func:`~scipy.linalg.eig` with left vectors). Both agree with the full
+    eigen-solution to rounding (``tests/test_inverse_iteration.py``).
     """
     n = len(names)
     n_modes = check_count(n_modes)
