@@ -107,8 +107,13 @@ def test_modes_from_a_few_vectors_equal_those_from_all(speed, kx, ky, damping):
         assert few.whirl[:2] == ("backward", "forward")
 
 
-def test_all_modes_with_left_vectors_equal_scipy():
-    """The dense path of all modes: numpy's right vectors, left ones by inverse iteration (no scipy)."""
+@pytest.mark.parametrize("scipy_loaded", [False, True])
+def test_all_modes_with_left_vectors_equal_scipy(monkeypatch, scipy_loaded):
+    """The dense path of all modes: numpy's right vectors, left ones by inverse iteration (no scipy import),
+    or scipy's eig with both where scipy.linalg is imported anyway."""
+    import rotorkit.linear.modal as modal
+
+    monkeypatch.setattr(modal, "scipy_linalg_loaded", lambda: scipy_loaded)
     model = rotor_chain(kx=5e6, ky=3e6, cross=1e6)
     A, M = model.state_matrix(500.0), model.mass
     modes = modes_from_state_matrix(A, model.coordinate_names, mass=M)
@@ -168,3 +173,30 @@ def test_campbell_with_the_shapes_of_a_few_modes_equals_all_shapes(monkeypatch, 
     np.testing.assert_array_equal(few.whirl, full.whirl)
     assert [(c.rotor, c.mode, c.whirl) for c in few.crossings] == [(c.rotor, c.mode, c.whirl) for c in full.crossings]
     np.testing.assert_allclose([c.speed for c in few.crossings], [c.speed for c in full.crossings], rtol=1e-9)
+
+
+def test_modes_with_left_shapes_need_no_scipy():
+    """A fresh process (``rotorkit modes FILE``) gets left shapes without importing scipy (0.4 s)."""
+    import subprocess
+    import sys
+    import textwrap
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    script = textwrap.dedent("""
+        import sys
+        import numpy as np
+        from rotorkit.linear.modal import modes_from_state_matrix, state_matrix
+        n = 6
+        K = 2e4 * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+        C = 3.0 * np.eye(n) + 0.5 * (np.eye(n, k=1) - np.eye(n, k=-1))
+        modes = modes_from_state_matrix(state_matrix(np.eye(n), C, K), tuple(f"q{i}" for i in range(n)))
+        few = modes_from_state_matrix(state_matrix(np.eye(n), C, K), tuple(f"q{i}" for i in range(n)), n_modes=1,
+                                      sparse=False)
+        assert modes.left_shapes is not None and few.left_shapes is not None
+        print(sorted({m.split(".")[0] for m in sys.modules} & {"scipy"}))
+    """)
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=root,
+                         env={**__import__("os").environ, "PYTHONPATH": str(root)}, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[]"

@@ -53,6 +53,8 @@ TOL = 1e-9
 GROWTH = 1e-3
 #: Ritz vectors of a cluster more ill-conditioned than this: a multiple eigenvalue, given an orthonormal basis
 RITZ_COND = 1e8
+#: vectors iterated in one batch of solves
+CHUNK = 8
 _SEED = 20261126
 
 
@@ -181,10 +183,12 @@ def state_eigenvectors(A, targets, spectrum, *, left=False):
                      steps, delta)
         out[:, mine] = _cluster_vectors(A, Z[0], values, targets[mine], left)
         done[mine] = True
-    if singles:
-        singles = np.array(singles, dtype=int)
-        start = rng.standard_normal((singles.size, N, 1)) + 1j * rng.standard_normal((singles.size, N, 1))
-        out[:, singles] = _iterate(shifted, targets[singles], start, np.array(steps_of), delta)[:, :, 0].T
+    singles, steps_of = np.array(singles, dtype=int), np.array(steps_of, dtype=int)
+    start = rng.standard_normal((singles.size, N, 1)) + 1j * rng.standard_normal((singles.size, N, 1))
+    for chunk in range(0, singles.size, CHUNK):  # batches of solves that stay in the cache
+        part = slice(chunk, chunk + CHUNK)
+        out[:, singles[part]] = _iterate(shifted, targets[singles[part]], start[part], steps_of[part],
+                                         delta)[:, :, 0].T
     return out
 
 

@@ -399,10 +399,12 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
     (:func:`numpy.linalg.eigvals`) and the vectors of the modes kept by
     inverse iteration (:func:`~rotorkit.linear.inverse_iteration.state_eigenvectors`)
     when they are few (``n_modes <= n / 5``: then cheaper than all the
-    vectors); otherwise every right vector by :func:`numpy.linalg.eig`, and
-    the left ones by inverse iteration (no scipy import) unless
-    ``n^4 > LEFT_ITERATION_WORK`` (about ``n > 119``: scipy's
-    :func:`~scipy.linalg.eig` with left vectors). Both agree with the full
+    vectors); otherwise, with left vectors, :func:`scipy.linalg.eig` (left
+    and right vectors in one solve) when scipy is imported already or
+    ``n^4 > LEFT_ITERATION_WORK`` (about ``n > 119``), else every right
+    vector by :func:`numpy.linalg.eig` and the left ones by inverse
+    iteration: no 0.4 s import of :mod:`scipy.linalg` in a process that has
+    no other use for it (``rotorkit modes FILE``). All agree with the full
     eigen-solution to rounding (``tests/test_inverse_iteration.py``).
     """
     n = len(names)
@@ -423,7 +425,7 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, spa
         index = index[:_with_partner(eigenvalues[index], n_modes)]
         X = state_eigenvectors(A, eigenvalues[index], eigenvalues)
         W = state_eigenvectors(A, eigenvalues[index], eigenvalues, left=True) if left else None
-    elif left and float(n) ** 4 > LEFT_ITERATION_WORK:  # large: scipy's left and right vectors in one solve
+    elif left and (float(n) ** 4 > LEFT_ITERATION_WORK or scipy_linalg_loaded()):  # scipy: both in one solve
         from scipy import linalg
 
         eigenvalues, wl, vr = linalg.eig(A, left=True, right=True)
@@ -461,6 +463,13 @@ FEW_VECTORS = 5
 #: left vectors of all modes by inverse iteration (no scipy) while n^4 (modes x the cost of a solve) is below
 #: this, else scipy.linalg.eig: about n = 119
 LEFT_ITERATION_WORK = 2e8
+
+
+def scipy_linalg_loaded():
+    """Whether :mod:`scipy.linalg` is imported already (then its eigen-solution with left vectors is the cheaper)."""
+    import sys
+
+    return "scipy.linalg" in sys.modules
 
 
 def _few(n_modes, n):
