@@ -293,7 +293,7 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
     the ``vectors`` lowest modes alone (None: of all).
     """
     from .linear_model import LinearModel, frozen_system, linear_model
-    from .modal import DENSE_SIZE, modes_from_matrices, modes_from_state_matrix, state_matrix
+    from .modal import DENSE_SIZE, FEW_VECTORS, modes_from_matrices, modes_from_state_matrix, state_matrix
 
     def sparse_count(n):
         return int(n_modes) + 4 if n_modes is not None and n > DENSE_SIZE else None  # sparse solve for big models
@@ -304,6 +304,8 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
 
         def modes_at(w, vectors=None):
             w = float(w)
+            if vectors is not None and vectors > len(names) // FEW_VECTORS:
+                vectors = None  # as many as that: every vector at once is cheaper (and certain)
             if last.get("speed") != w:
                 last.clear()
                 last["speed"], last["A"] = w, state_at(w)
