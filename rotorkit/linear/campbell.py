@@ -10,7 +10,12 @@ from one speed to the next by the modal assurance criterion (MAC) of their
 shapes, ``|a^H b|^2 / (|a|^2 |b|^2)``, with an optimal assignment
 (:func:`rotorkit.analysis.roots.assignment`), not by sorting frequencies:
 a forward and a backward mode that cross keep their identity (their
-circular shapes are orthogonal).
+circular shapes are orthogonal). At each speed every eigenvalue is
+computed but, for a dense model, the shapes of the modes near the tracked
+ones in frequency alone (inverse iteration,
+:mod:`rotorkit.linear.inverse_iteration`); where the assignment could still
+pick a mode left out (bounded by the frequency part of its cost), the
+shapes of all: the diagram is the one all shapes give.
 
 On every grid interval where a tracked damped frequency crosses an
 excitation line ``order x spin speed`` of a rotor, the critical speed is
@@ -281,22 +286,48 @@ def _resolve_system(source, backend):
 
 
 def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, speeds=None, backend="auto"):
-    """(modes_at(speed), spins_at(speed), parameter name) for a LinearModel, a System or a Model."""
+    """(modes_at(speed, vectors=None), spins_at(speed), parameter name) for a LinearModel, a System or a Model.
+
+    ``modes_at(speed, vectors)`` gives every eigenvalue and, where it can
+    (a linear model of at most :data:`~rotorkit.linear.modal.DENSE_SIZE` coordinates), the shapes of
+    the ``vectors`` lowest modes alone (None: of all).
+    """
     from .linear_model import LinearModel, frozen_system, linear_model
+    from .modal import DENSE_SIZE, FEW_VECTORS, modes_from_matrices, modes_from_state_matrix, state_matrix
 
     def sparse_count(n):
-        return int(n_modes) + 4 if n_modes is not None and n > 100 else None  # sparse solve for big models
+        return int(n_modes) + 4 if n_modes is not None and n > DENSE_SIZE else None  # sparse solve for big models
+
+    def dense_modes(state_at, names, positions):
+        """modes_at(w, vectors) of a dense state matrix; a speed asked again (more vectors) reuses its eigenvalues."""
+        last = {}
+
+        def modes_at(w, vectors=None):
+            w = float(w)
+            if vectors is not None and vectors > len(names) // FEW_VECTORS:
+                vectors = None  # as many as that: every vector at once is cheaper (and certain)
+            if last.get("speed") != w:
+                last.clear()
+                last["speed"], last["A"] = w, state_at(w)
+            modes = modes_from_state_matrix(last["A"], names, left=False, n_modes=vectors, sparse=False,
+                                            spectrum=last.get("spectrum"), speed=w, station_positions=positions)
+            last["spectrum"] = modes.all_eigenvalues
+            return modes
+
+        return modes_at
 
     if isinstance(target, LinearModel):
         wanted = sparse_count(target.n)
+        dense_at = dense_modes(target.state_matrix, target.coordinate_names, target.station_positions)
 
-        def linear_modes_at(w):
-            return target.modes(w, left=False, n_modes=wanted)
+        def linear_modes_at(w, vectors=None):
+            if wanted:
+                return target.modes(w, left=False, n_modes=wanted)
+            return dense_at(w, vectors)
 
         linear_modes_at.matrices = target.matrices  # dense (M, C, K) at a speed: the refinement's Newton steps
         return linear_modes_at, target.spin_speeds, target.speed_parameter
     from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
-    from .modal import modes_from_matrices
     from .modes import natural_frequencies
 
     t = options["t"]
@@ -311,13 +342,17 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
         names, positions = tuple(model.coordinate_names), station_positions(model)
         wanted = sparse_count(len(names))
 
-        def modes_at(w):
-            M, C, K = evaluator(**{speed_parameter: float(w)}) if wanted else matrices_at(w)
-            return modes_from_matrices(M, C, K, names, left=False, n_modes=wanted, speed=float(w),
-                                       station_positions=positions)
-
         def matrices_at(w):
             return evaluator.dense(**{speed_parameter: float(w)})
+
+        dense_at = dense_modes(lambda w: state_matrix(*matrices_at(w)), names, positions)
+
+        def modes_at(w, vectors=None):
+            if wanted:
+                M, C, K = evaluator(**{speed_parameter: float(w)})
+                return modes_from_matrices(M, C, K, names, left=False, n_modes=wanted, speed=float(w),
+                                           station_positions=positions)
+            return dense_at(w, vectors)
 
         modes_at.matrices = matrices_at
         return modes_at, spins_at, speed_parameter
@@ -328,34 +363,87 @@ def _solver(target, speed_parameter, options, n_modes=None, relinearize=False, s
         middle = 0.5 * (float(speeds[0]) + float(speeds[-1]))
         linear = linear_model(system, speed_parameter=speed_parameter, speed=middle,
                               **{k: v for k, v in options.items() if k != "unbalance"})
-        wanted = sparse_count(linear.n)
-        return (lambda w: linear.modes(w, left=False, n_modes=wanted)), spins_at, speed_parameter
+        return _solver(linear, speed_parameter, options, n_modes)[0], spins_at, speed_parameter
 
-    def modes_at(w):
+    def relinearized_modes_at(w, vectors=None):
         return natural_frequencies(system.with_parameters(**{speed_parameter: float(w)}), **options)
 
-    return modes_at, spins_at, speed_parameter
+    return relinearized_modes_at, spins_at, speed_parameter
+
+
+#: the shapes computed at a speed: those of the modes whose damped frequency was within this factor of the
+#: highest tracked one at the previous speed (at least the tracked ones and EXTRA_SHAPES more); all of them when
+#: the tracking could still pick a mode beyond
+FREQUENCY_REACH = 1.25
+EXTRA_SHAPES = 2
 
 
 def _match(previous_shapes, previous_freqs, modes, count):
-    """Columns of ``modes`` continuing the tracked shapes (MAC, ties broken by frequency)."""
+    """Columns of ``modes`` continuing the tracked shapes (MAC, ties broken by frequency), and whether certain.
+
+    Certain: the modes of ``modes`` are all the oscillatory ones, or no assignment that takes one of those
+    left out (whose shapes were not computed) could cost less: each cost is ``1 - MAC`` (>= 0) plus
+    ``0.1 min(relative frequency distance, 10)``, the latter known from the eigenvalues alone.
+    """
+    from .modal import oscillatory_order
     from .roots import assignment
 
     k = len(modes)
+    spectrum = modes.all_eigenvalues
+    outside = spectrum[oscillatory_order(spectrum)][k:].imag  # oscillatory modes without a computed shape
     if previous_shapes is None:
-        return list(range(min(count, k)))
+        return list(range(min(count, k))), k >= count or outside.size == 0
+    rows_n = previous_shapes.shape[1]
     if k == 0:
-        return [None] * previous_shapes.shape[1]
+        return [None] * rows_n, outside.size == 0
     M = mac(previous_shapes, modes.shapes)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        rel = np.abs(modes.damped_frequencies[None, :] - previous_freqs[:, None]) / np.maximum(
-            np.abs(previous_freqs[:, None]), 1e-300)
-    cost = (1.0 - M) + 0.1 * np.nan_to_num(np.minimum(rel, 10.0), nan=10.0)
+    cost = (1.0 - M) + 0.1 * _frequency_cost(modes.damped_frequencies, previous_freqs)
     rows, cols = assignment(cost)
-    out = [None] * previous_shapes.shape[1]
+    out = [None] * rows_n
     for r, c in zip(rows, cols):
         out[r] = int(c)
-    return out
+    if outside.size == 0:
+        return out, True
+    if k < rows_n:
+        return out, False
+    best = float(cost[rows, cols].sum())
+    row_min = cost.min(axis=1)
+    beyond = 0.1 * _frequency_cost(outside, previous_freqs).min(axis=1)  # the least any left-out mode costs
+    return out, bool(row_min.sum() + np.min(beyond - row_min) > best)
+
+
+def _frequency_cost(frequencies, previous_freqs):
+    """``min(|f - f_prev| / |f_prev|, 10)`` (NaN: 10), shape (len(previous_freqs), len(frequencies))."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.abs(frequencies[None, :] - previous_freqs[:, None]) / np.maximum(
+            np.abs(previous_freqs[:, None]), 1e-300)
+    return np.nan_to_num(np.minimum(rel, 10.0), nan=10.0)
+
+
+def _solve_matched(modes_at, speed, previous_shapes, previous_freqs, count, previous_spectrum=None):
+    """``(modes, columns)`` at ``speed``: the shapes of the lowest modes, as many as the tracking needs.
+
+    The modes that can continue the tracked ones lie near them in frequency: shapes are computed for those
+    within :data:`FREQUENCY_REACH` of the highest tracked frequency at the previous speed (whose spectrum
+    ``previous_spectrum`` predicts the count), and for all modes where :func:`_match` cannot rule out that a
+    mode left out would be picked.
+    """
+    from .modal import oscillatory_order
+
+    if previous_shapes is None:
+        vectors = count
+    else:
+        vectors = count + EXTRA_SHAPES
+        if previous_spectrum is not None and np.any(np.isfinite(previous_freqs)):
+            lam = previous_spectrum[oscillatory_order(previous_spectrum)]
+            reach = FREQUENCY_REACH * float(np.nanmax(np.abs(previous_freqs)))
+            vectors = max(vectors, int(np.count_nonzero(lam.imag <= reach)) + 1)
+    modes = modes_at(speed, vectors)
+    cols, certain = _match(previous_shapes, previous_freqs, modes, count)
+    if certain or len(modes) < vectors:  # len < vectors: every oscillatory mode is there
+        return modes, cols
+    modes = modes_at(speed, None)
+    return modes, _match(previous_shapes, previous_freqs, modes, count)[0]
 
 
 #: most speeds a Campbell diagram is computed at
@@ -476,9 +564,9 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
     lines = None
     spectra = []  # per speed: every eigenvalue (the gaps that keep a Newton refinement on its mode)
     for i, speed in enumerate(w):
-        modes = modes_at(float(speed))
+        modes, cols = _solve_matched(modes_at, float(speed), prev_shapes, prev_freqs, count,
+                                     spectra[-1] if spectra else None)
         radius[i] = float(np.max(np.abs(modes.all_eigenvalues))) if modes.all_eigenvalues.size else 0.0
-        cols = _match(prev_shapes, prev_freqs, modes, count)
         if prev_shapes is None:
             count = len(cols)
             lam, whirl = lam[:, :count], whirl[:, :count]
@@ -522,8 +610,8 @@ def campbell(model_or_preset_builder, speeds, *, n_modes=6, speed_parameter=None
             if followed is not None:
                 value, shape = followed
                 return value, shape_whirl(shape[:, None], names, positions)[0][0]
-        modes = modes_at(speed)
-        c = _match(tracked_shapes[j][:, [k]], np.array([damped[j, k]]), modes, 1)[0]
+        modes, (c,) = _solve_matched(modes_at, speed, tracked_shapes[j][:, [k]], np.array([damped[j, k]]), 1,
+                                     spectra[j])
         if c is None:
             return complex("nan"), ""
         return modes.eigenvalues[c], modes.whirl[c]

@@ -37,7 +37,8 @@ from ..errors import ParameterError
 from .tables import DEFAULT_TABLE_MODES, csv_output
 from .whirl import orbit, reference_length, shape_whirl, slope_orbit, station_pairs, tilt_pairs
 
-__all__ = ["Modes", "modes_from_matrices", "modes_from_state_matrix"]
+__all__ = ["Modes", "modes_from_matrices", "modes_from_state_matrix", "oscillatory_order", "sparse_pays",
+           "state_matrix"]
 
 #: A pair is oscillatory when Im(lambda) exceeds this fraction of |lambda|.
 OSCILLATORY_RTOL = 1e-9
@@ -364,7 +365,7 @@ def _circularise_pairs(lam, vec, names):
     return vec
 
 
-def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **fields):
+def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, sparse=None, spectrum=None, **fields):
     """:class:`Modes` from a state matrix ``A = [[0, I], [-M^-1 K, -M^-1 C]]``.
 
     Parameters
@@ -374,35 +375,138 @@ def modes_from_state_matrix(A, names, *, mass=None, left=True, n_modes=None, **f
     mass : numpy.ndarray, shape (n, n), optional
         ``M``, for the normalisation of the left shapes (default identity).
     left : bool
-        Compute the left eigenvectors (``scipy.linalg.eig(..., left=True)``).
+        Compute the left eigenvectors too.
     n_modes : int, optional
         Only the ``n_modes`` modes of smallest ``|lambda|``: for large models
         found by shift-invert Arnoldi iteration about 0
         (:func:`scipy.sparse.linalg.eigs`, a sparse LU of ``A``) instead of
         the full dense eigen-solution; :attr:`Modes.all_eigenvalues` then
         holds only the computed ones.
+    sparse : bool, optional
+        With ``n_modes``: True for the Arnoldi iteration, False for the
+        dense eigenvalues (all of them) with the vectors of the ``n_modes``
+        modes alone; None (default) chooses the Arnoldi iteration when
+        more than :data:`DENSE_SIZE` coordinates and ``2 n > 4 n_modes + 20``.
+    spectrum : numpy.ndarray of complex, shape (2n,), optional
+        Every eigenvalue of ``A``, when already known (the dense solution
+        with few vectors then computes the vectors alone).
     **fields
         Further :class:`Modes` fields (operating point, sample times, speed ...).
+
+    Notes
+    -----
+    The dense solution computes the eigenvalues alone
+    (:func:`numpy.linalg.eigvals`) and the vectors of the modes kept by
+    inverse iteration (:func:`~rotorkit.linear.inverse_iteration.state_eigenvectors`)
+    when they are few (``n_modes <= n / 5``: then cheaper than all the
+    vectors); otherwise, with left vectors, :func:`scipy.linalg.eig` (left
+    and right vectors in one solve) when scipy is imported already or
+    ``n^4 > LEFT_ITERATION_WORK`` (about ``n > 119``), else every right
+    vector by :func:`numpy.linalg.eig` and the left ones by inverse
+    iteration: no 0.4 s import of :mod:`scipy.linalg` in a process that has
+    no other use for it (``rotorkit modes FILE``). All agree with the full
+    eigen-solution to rounding (``tests/test_inverse_iteration.py``).
     """
     n = len(names)
     n_modes = check_count(n_modes)
-    if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
+    if sparse is None:
+        sparse = n_modes is not None and sparse_pays(n, n_modes)
+    Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
+    damping = (-A[n:, n:] if mass is None else Mm @ -A[n:, n:]) if left else None  # C: for the left shapes
+    if sparse and n_modes is not None:
         eigenvalues, vr, wl = _lowest_eigenpairs(A, int(n_modes), left)
-    elif left:
-        from scipy import linalg  # only here: a right-only solve (Campbell) needs numpy alone
+        index = oscillatory_order(eigenvalues)
+        X, W = vr[:, index], None if wl is None else wl[:, index]
+    elif n_modes is not None and _few(n_modes, n):
+        from .inverse_iteration import state_eigenvectors
+
+        eigenvalues = np.linalg.eigvals(A) if spectrum is None else np.asarray(spectrum, dtype=complex)
+        index = oscillatory_order(eigenvalues)
+        index = index[:_with_partner(eigenvalues[index], n_modes)]
+        X = state_eigenvectors(A, eigenvalues[index], eigenvalues)
+        W = state_eigenvectors(A, eigenvalues[index], eigenvalues, left=True) if left else None
+    elif left and (float(n) ** 4 > LEFT_ITERATION_WORK or scipy_linalg_loaded()):  # scipy: both in one solve
+        from scipy import linalg
 
         eigenvalues, wl, vr = linalg.eig(A, left=True, right=True)
+        index = oscillatory_order(eigenvalues)
+        X, W = vr[:, index], wl[:, index]
     else:
         eigenvalues, vr = np.linalg.eig(A)
-        wl = None
-    Mm = np.eye(n) if mass is None else np.asarray(mass, dtype=float)
+        index = oscillatory_order(eigenvalues)
+        X, W = vr[:, index], None
+        if left:
+            from .inverse_iteration import state_eigenvectors
+
+            W = state_eigenvectors(A, eigenvalues[index], eigenvalues, left=True)
     Y = None
-    if wl is not None:  # the lower half of a left state vector is M^H y (y: left coordinate vector)
-        Y = np.linalg.solve(Mm.conj().T, wl[n:]) if mass is not None else wl[n:]
-    return _modes(eigenvalues, vr[:n], Y, names, Mm, Mm @ -A[n:, n:], fields, n_modes)
+    if W is not None:  # the lower half of a left state vector is M^H y (y: left coordinate vector)
+        Y = np.linalg.solve(Mm.conj().T, W[n:]) if mass is not None else W[n:]
+    return _modes(eigenvalues, eigenvalues[index], X[:n], Y, names, Mm, damping, fields, n_modes)
 
 
-def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=None, **fields):
+#: models with at most this many coordinates solve all eigenvalues densely, also for a few modes (n_modes)
+DENSE_SIZE = 100
+
+
+def sparse_pays(n, n_modes):
+    """Whether the ``n_modes`` lowest modes of ``n`` coordinates are solved by shift-invert Arnoldi iteration.
+
+    For more than :data:`DENSE_SIZE` coordinates and ``2 n > 4 n_modes + 20``; below, the dense eigenvalues
+    (milliseconds, no scipy import) with the vectors of the modes kept.
+    """
+    return n > DENSE_SIZE and 2 * n > 4 * int(n_modes) + 20
+
+
+#: the dense solution finds the kept modes' vectors by inverse iteration when they are at most n / FEW_VECTORS
+FEW_VECTORS = 5
+#: left vectors of all modes by inverse iteration (no scipy) while n^4 (modes x the cost of a solve) is below
+#: this, else scipy.linalg.eig: about n = 119
+LEFT_ITERATION_WORK = 2e8
+
+
+def scipy_linalg_loaded():
+    """Whether :mod:`scipy.linalg` is imported already (then its eigen-solution with left vectors is the cheaper)."""
+    import sys
+
+    return "scipy.linalg" in sys.modules
+
+
+def _few(n_modes, n):
+    return int(n_modes) <= n // FEW_VECTORS
+
+
+def oscillatory_order(eigenvalues):
+    """Indices of the oscillatory eigenvalues (``Im(lambda) > OSCILLATORY_RTOL |lambda|``), by ascending ``|lambda|``.
+
+    The modes of :class:`Modes`, in their order (a stable sort: equal moduli keep the solver's order).
+    """
+    eigenvalues = np.asarray(eigenvalues)
+    index = np.flatnonzero(eigenvalues.imag > OSCILLATORY_RTOL * np.abs(eigenvalues))
+    return index[np.argsort(np.abs(eigenvalues[index]), kind="stable")]
+
+
+def double_pairs(lam):
+    """Start indices ``i`` of the double eigenvalues ``(lam[i], lam[i + 1])`` of ascending ``lam``, as paired for
+    the circular combinations (scanning up: a member of a pair is not paired again)."""
+    pairs = []
+    i = 0
+    while i < lam.size - 1:
+        if abs(lam[i + 1] - lam[i]) > DOUBLE_RTOL * abs(lam[i]):
+            i += 1
+            continue
+        pairs.append(i)
+        i += 2
+    return pairs
+
+
+def _with_partner(lam, n_modes):
+    """``n_modes``, or one more when mode ``n_modes`` is the first member of a double eigenvalue (both are needed)."""
+    k = min(int(n_modes), lam.size)
+    return k + 1 if k < lam.size and k - 1 in double_pairs(lam[:k + 1]) else k
+
+
+def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=None, sparse=None, **fields):
     """:class:`Modes` of ``M q'' + C q' + K q = 0`` from its matrices.
 
     Parameters
@@ -415,13 +519,18 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
         Compute the left shapes too.
     n_modes : int, optional
         Only the ``n_modes`` modes of smallest ``|lambda|``. For large models
-        (``2 n > 4 n_modes + 20``) they are found by shift-invert Arnoldi
+        (:func:`sparse_pays`: more than :data:`DENSE_SIZE` coordinates and
+        ``2 n > 4 n_modes + 20``) they are found by shift-invert Arnoldi
         iteration (:func:`scipy.sparse.linalg.eigs`) on the pencil of the
         first-order form, each step one sparse LU solve with
         ``K + s C + s^2 M`` (``n x n``, factored once; the dense
         ``M^-1 K`` is never formed), so the cost grows with the bandwidth,
-        not with ``n^3``. Otherwise, and when the iteration fails, all modes
-        come from the dense eigen-solution of the state matrix.
+        not with ``n^3``. Otherwise, and when the iteration fails, they come
+        from the dense eigen-solution of the state matrix
+        (:func:`modes_from_state_matrix`).
+    sparse : bool, optional
+        As in :func:`modes_from_state_matrix`: False for the dense
+        eigenvalues with the vectors of the ``n_modes`` modes alone.
     **fields
         Further :class:`Modes` fields.
     """
@@ -429,16 +538,26 @@ def modes_from_matrices(mass, damping, stiffness, names, *, left=True, n_modes=N
     n_modes = check_count(n_modes)
     dense = [np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
              for A in (mass, damping, stiffness)]
-    if n_modes is not None and 2 * n > 4 * int(n_modes) + 20:
+    if n_modes is not None and (sparse_pays(n, n_modes) if sparse is None else sparse):
         solved = _lowest_pencil_eigenpairs(mass, damping, stiffness, int(n_modes), left)
         if solved is not None:
             eigenvalues, X, Y = solved
-            return _modes(eigenvalues, X, Y, names, dense[0], dense[1], fields, n_modes)
+            index = oscillatory_order(eigenvalues)
+            return _modes(eigenvalues, eigenvalues[index], X[:, index], None if Y is None else Y[:, index], names,
+                          dense[0], dense[1], fields, n_modes)
     M, C, K = dense
+    A = state_matrix(M, C, K)
+    return modes_from_state_matrix(A, names, mass=M, left=left, n_modes=n_modes, sparse=sparse, **fields)
+
+
+def state_matrix(mass, damping, stiffness):
+    """``A = [[0, I], [-M^-1 K, -M^-1 C]]`` (shape (2n, 2n)) of dense ``M``, ``C``, ``K`` (one LU of ``M``, numpy)."""
+    M, C, K = (np.asarray(X, dtype=float) for X in (mass, damping, stiffness))
+    n = M.shape[0]
     A = np.zeros((2 * n, 2 * n))
     A[:n, n:] = np.eye(n)
-    A[n:] = -np.linalg.solve(M, np.hstack([K, C]))  # one LU of M (numpy: no scipy import on this path)
-    return modes_from_state_matrix(A, names, mass=M, left=left, n_modes=n_modes, **fields)
+    A[n:] = -np.linalg.solve(M, np.hstack([K, C]))
+    return A
 
 
 def check_count(n_modes):
@@ -449,21 +568,20 @@ def check_count(n_modes):
     return int(n_modes)
 
 
-def _modes(eigenvalues, X, Y, names, M, C, fields, n_modes=None):
-    """:class:`Modes` from eigenvalues with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``.
+def _modes(eigenvalues, lam, vec, Y, names, M, C, fields, n_modes=None):
+    """:class:`Modes` from the oscillatory eigenvalues ``lam`` (ascending ``|lambda|``, as
+    :func:`oscillatory_order`) with right (and left) coordinate vectors of ``lambda^2 M + lambda C + K``.
 
-    ``n_modes``: keep the lowest ``n_modes`` oscillatory modes (the sparse
-    solvers compute a few more to converge, and the dense one all of them).
+    ``eigenvalues``: every computed one (:attr:`Modes.all_eigenvalues`). ``n_modes``: keep the lowest
+    ``n_modes`` modes (the sparse solvers compute a few more to converge, and the dense one may give all of
+    them, or the ``n_modes`` and the partner of a double one).
     """
     n = len(names)
-    keep = eigenvalues.imag > OSCILLATORY_RTOL * np.abs(eigenvalues)
-    lam = eigenvalues[keep]
-    order = np.argsort(np.abs(lam), kind="stable")
-    lam = lam[order]
-    vec = X[:, keep][:, order].copy()
+    vec = np.array(vec, dtype=complex)
     vec = _circularise_pairs(lam, vec, names)
     if n_modes is not None:  # after the circular combinations, which need both members of a double root
-        order, lam, vec = order[:n_modes], lam[:n_modes], vec[:, :n_modes]
+        lam, vec = lam[:n_modes], vec[:, :n_modes]
+        Y = None if Y is None else Y[:, :n_modes]
     k = lam.size
     shapes = np.empty((n, k), dtype=complex)
     for i in range(k):
@@ -471,7 +589,6 @@ def _modes(eigenvalues, X, Y, names, M, C, fields, n_modes=None):
         shapes[:, i] = v / v[int(np.argmax(np.abs(v)))]
     left_shapes = None
     if Y is not None:
-        Y = Y[:, keep][:, order]
         left_shapes = np.empty((n, k), dtype=complex)
         i = 0
         while i < k:
