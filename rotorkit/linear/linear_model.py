@@ -283,12 +283,13 @@ class LinearModel:
     def modes(self, speed=0.0, *, left=True, n_modes=None):
         """:class:`~rotorkit.analysis.modal.Modes` at the swept speed ``speed`` (rad/s).
 
-        ``n_modes``: only the lowest ones (sparse shift-invert solve for large models).
+        ``n_modes``: only the lowest ones (sparse shift-invert solve for large models:
+        :func:`~rotorkit.linear.modal.sparse_pays`; dense eigenvalues with the kept modes' vectors below).
         """
-        from .modal import modes_from_matrices, modes_from_state_matrix
+        from .modal import modes_from_matrices, modes_from_state_matrix, sparse_pays
 
         w = speed_si(speed)
-        if n_modes is not None and 2 * self.n > 4 * int(n_modes) + 20:
+        if n_modes is not None and sparse_pays(self.n, n_modes):
             M, C, K, G, H = self._sparse
             C, K = C + w * G, K + w * H
             if self.speed_terms is not None:
