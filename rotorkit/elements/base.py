@@ -51,13 +51,14 @@ the declarations that apply; nothing else in the package changes.
 
 import dataclasses
 import functools
+import sys
 from dataclasses import dataclass, field
 from typing import ClassVar, Mapping
 
 from ..errors import ParameterError
 from ..units import to_si
 
-__all__ = ["Element", "Terms", "QuadraticForm", "AXES"]
+__all__ = ["Element", "Terms", "QuadraticForm", "AXES", "loaded_types"]
 
 #: the standard coordinate axes, in coordinate order
 AXES = ("x", "y", "alpha", "thx", "thy")
@@ -144,6 +145,25 @@ class QuadraticForm:
 
     def dissipation(self):
         return self._form(self.damping, self.speeds, self.speeds) / 2
+
+
+def loaded_types(*names):
+    """The classes ``"module.Class"`` of :mod:`rotorkit.elements` whose module is imported, as a tuple.
+
+    For ``isinstance`` checks against an optional companion type (a rotor's
+    ``Drive``, a bearing's ``Pedestal``, a ``BaseRotation`` in the model)
+    without importing its module: no instance of a class exists before its
+    module is imported, so ``isinstance(x, loaded_types("drive.Drive"))`` is
+    the same as ``isinstance(x, Drive)``, and a model without one never
+    loads that module (``isinstance(x, ())`` is False).
+    """
+    found = []
+    for name in names:
+        module, _, cls = name.rpartition(".")
+        value = getattr(sys.modules.get(f"{__package__}.{module}"), cls, None)
+        if value is not None:
+            found.append(value)
+    return tuple(found)
 
 
 @functools.cache

@@ -28,8 +28,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, QuadraticForm, Terms
-from .base_motion import BaseRotation, base_frame, tilt_loads
+from .base import Element, QuadraticForm, Terms, loaded_types
 from .material import Material
 from .rotor import check_station
 
@@ -315,7 +314,7 @@ class BeamSegment(Element):
 
     def check(self, model):
         for e in model.elements:
-            if isinstance(e, BaseRotation):
+            if isinstance(e, loaded_types("base_motion.BaseRotation")):  # (its module is loaded if there is one)
                 z0, z1 = e.axial_position(self.start), e.axial_position(self.end)
                 if z0 is not None and z1 is not None and not math.isclose(z1 - z0, self.length, rel_tol=1e-9,
                                                                           abs_tol=1e-12):
@@ -432,6 +431,8 @@ class BeamSegment(Element):
     def contribute(self, ctx):
         import sympy as sp
 
+        from .base_motion import base_frame
+
         p = ctx.p
         (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t, circ_t = self._forms_template()
         rename = {v: p[k] for k, v in placeholders.items() if k in p}
@@ -484,9 +485,11 @@ class BeamSegment(Element):
         interpolated by the shape functions, so the integral is the translational mass matrix
         times nodal vectors. Rotation: :func:`tilt_kinetic` per unit length (``rho I``,
         ``rho I_p``) integrated over the element with the rotation shape functions
-        (:func:`tilt_loads`).
+        (:func:`~rotorkit.elements.base_motion.tilt_loads`).
         """
         import sympy as sp
+
+        from .base_motion import tilt_loads
 
         per_element = self._base_rotation_matrices(ctx)
         W, c = frame.W, frame.c

@@ -6,7 +6,6 @@ import numpy as np
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, Terms
-from .base_motion import base_frame, tilt_kinetic
 from .rotor import check_station
 
 __all__ = ["Disk", "DiskGeometry", "LumpedMass"]
@@ -256,6 +255,8 @@ class Disk(Element):
         if self.diametral_inertia is not None:
             (a, ad), (b, bd) = ctx.coord(self.station, "thx"), ctx.coord(self.station, "thy")
             kinetic += p["diametral_inertia"] * (ad**2 + bd**2) / 2 + self.polar_inertia_expr(p) * phi_dot * ad * b
+            from .base_motion import base_frame, tilt_kinetic
+
             frame = base_frame(ctx)
             if frame is not None:  # a turning base: its gyroscopic and Euler moments on the tilts
                 kinetic += tilt_kinetic(p["diametral_inertia"], self.polar_inertia_expr(p), phi_dot, (a, b), (ad, bd),
