@@ -50,7 +50,6 @@ written: use a tabulated element instead.
 """
 
 import dataclasses
-import difflib
 import math
 import re
 import tomllib
@@ -147,11 +146,15 @@ def _check_shape(value, depth, counter, where, ctx):
 
 
 def _did_you_mean(name, options):
+    import difflib
+
     near = difflib.get_close_matches(str(name), list(options), n=3)
     return f"did you mean {', '.join(near)}?" if near else f"expected one of: {', '.join(options)}"
 
 
 def _near(name, options):
+    import difflib
+
     near = difflib.get_close_matches(str(name), list(options), n=3)
     return f"; did you mean {', '.join(near)}?" if near else ""
 

@@ -313,8 +313,9 @@ class BeamSegment(Element):
         return tuple(links)
 
     def check(self, model):
-        for e in model.elements:
-            if isinstance(e, loaded_types("base_motion.BaseRotation")):  # (its module is loaded if there is one)
+        turning_base = loaded_types("base_motion.BaseRotation")  # (its module is loaded if the model has one)
+        for e in model.elements if turning_base else ():
+            if isinstance(e, turning_base):
                 z0, z1 = e.axial_position(self.start), e.axial_position(self.end)
                 if z0 is not None and z1 is not None and not math.isclose(z1 - z0, self.length, rel_tol=1e-9,
                                                                           abs_tol=1e-12):
