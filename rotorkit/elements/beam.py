@@ -28,7 +28,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, QuadraticForm, Terms, loaded_types
+from .base import Element, loaded_types
 from .material import Material
 from .rotor import check_station
 
@@ -433,6 +433,7 @@ class BeamSegment(Element):
         import sympy as sp
 
         from .base_motion import base_frame
+        from .terms import QuadraticForm, Terms
 
         p = ctx.p
         (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t, circ_t = self._forms_template()

@@ -67,9 +67,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms, loaded_types
+from .base import Element, loaded_types
 from .rotor import check_station
-from .speed import check_table
+from .tabulated import check_table
 
 __all__ = ["LinearBearing"]
 
@@ -661,6 +661,8 @@ class LinearBearing(Element):
 
     def contribute(self, ctx):
         import sympy as sp
+
+        from .terms import Terms
 
         if self.pedestal is not None:
             housing = _pedestal_axes()

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms
+from .base import Element
 from .rotor import check_station
 
 __all__ = ["Disk", "DiskGeometry", "LumpedMass"]
@@ -238,6 +238,8 @@ class Disk(Element):
     def contribute(self, ctx):
         import sympy as sp
 
+        from .terms import Terms
+
         p = ctx.p
         (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         spin = ctx.speed(self.station)
@@ -309,5 +311,7 @@ class LumpedMass(Element):
         return {x: (m, sp.S.Zero), y: (sp.S.Zero, m)}
 
     def contribute(self, ctx):
+        from .terms import Terms
+
         (_, xd), (_, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         return Terms(kinetic=ctx.p["mass"] * (xd**2 + yd**2) / 2)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms, loaded_types
+from .base import Element, loaded_types
 
 # SpeedProfile, Drive, Rayleigh and ModalDamping are looked up by loaded_types (a rotor holding one
 # imported its module): a rotor at a constant speed without damping never loads those modules.
@@ -202,6 +202,8 @@ class Rotor(Element):
         return self.name
 
     def contribute(self, ctx):
+        from .terms import Terms
+
         rayleigh = isinstance(self.damping, loaded_types("damping.Rayleigh"))
         if rayleigh:
             from .damping import rayleigh_terms
