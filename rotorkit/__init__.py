@@ -10,7 +10,6 @@ equations with sympy, compile them and simulate.
 import importlib
 
 from .errors import ParameterError, RotorkitError, SimulationError, TopologyError, UnitError
-from .result import Result, load_result  # numpy only
 from .simulate import simulate  # eager: the function must win over the submodule of the same name
 
 #: public name -> the submodule defining it, imported on first access (PEP 562), so that
@@ -41,6 +40,7 @@ _LAZY = {
     "PlainJournalBearing": "fluidfilm.plain_journal",
     "Seal": "elements",
     "matched_whirl_modes": "linear.matched_whirl",
+    **dict.fromkeys(("Result", "load_result"), "result"),
 }
 
 

@@ -1,7 +1,5 @@
 """A model: a checked, immutable set of elements and the effects it holds."""
 
-import difflib
-import hashlib
 from collections import defaultdict
 
 from .context import Context  # noqa: F401  (its former home; the derivation imports it from rotorkit.context)
@@ -291,6 +289,8 @@ class Model:
         changes = defaultdict(dict)
         for name, value in values.items():
             if name not in owners:
+                import difflib
+
                 near = difflib.get_close_matches(name, list(owners), n=3)
                 hint = f"did you mean {', '.join(near)}?" if near else f"parameters are: {', '.join(owners)}"
                 raise ParameterError(f"{self.name}: unknown parameter {name!r}; {hint}")
@@ -353,6 +353,8 @@ class Model:
         known = self.__dict__.get("_structure_key")  # elements are frozen: computed once per elements tuple
         if known is not None and known[0] is self.elements and known[1] == FORMAT_VERSION:
             return known[2]
+        import hashlib  # here, not at import: a model that is only read and built needs no hash
+
         text = repr((FORMAT_VERSION, tuple(e.structure() for e in self.elements)))
         key = hashlib.sha256(text.encode()).hexdigest()[:20]
         self.__dict__["_structure_key"] = (self.elements, FORMAT_VERSION, key)

@@ -50,7 +50,7 @@ written: use a tabulated element instead.
 """
 
 import dataclasses
-import difflib
+import functools
 import math
 import re
 import tomllib
@@ -147,11 +147,15 @@ def _check_shape(value, depth, counter, where, ctx):
 
 
 def _did_you_mean(name, options):
+    import difflib
+
     near = difflib.get_close_matches(str(name), list(options), n=3)
     return f"did you mean {', '.join(near)}?" if near else f"expected one of: {', '.join(options)}"
 
 
 def _near(name, options):
+    import difflib
+
     near = difflib.get_close_matches(str(name), list(options), n=3)
     return f"; did you mean {', '.join(near)}?" if near else ""
 
@@ -165,6 +169,13 @@ def _to_python(value):
     return value
 
 
+@functools.cache
+def _init_fields(cls):
+    """``(names in order, set of names)`` of the keyword arguments of a registered dataclass; once per class."""
+    names = tuple(f.name for f in dataclasses.fields(cls) if f.init)
+    return names, frozenset(names)
+
+
 def _build(table, where, ctx, types):
     """An instance of a registered type from its table (fields checked, units parsed)."""
     type_name = table.get("type")
@@ -176,14 +187,14 @@ def _build(table, where, ctx, types):
         raise ctx.error(where, f"unknown type {type_name!r}; {_did_you_mean(type_name, sorted(types))}")
     label = table.get("name") if isinstance(table.get("name"), str) else None
     where = f"{where} ({type_name}{' ' + repr(label) if label else ''})"
-    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    field_names, fields = _init_fields(cls)
     units = getattr(cls, "_units", {})
     kwargs = {}
     for key, raw in table.items():
         if key == "type":
             continue
         if key not in fields:
-            raise ctx.error(where, f"unknown field {key!r}; {_did_you_mean(key, list(fields))}")
+            raise ctx.error(where, f"unknown field {key!r}; {_did_you_mean(key, list(field_names))}")
         kwargs[key] = _field_value(raw, f"{where} field {key!r}", key in units, ctx, types)
     try:
         return cls(**kwargs)

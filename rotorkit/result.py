@@ -1,6 +1,5 @@
 """Simulation results: named signals, metadata, save/load, thin plot methods."""
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -130,6 +129,7 @@ class Result:
         meta = {"format": FILE_FORMAT, "name": self.name, "state_names": list(self.state_names),
                 "parameters": self.parameters, "stats": _jsonable(self.stats)}
         import io
+        import json
 
         buf = io.BytesIO()
         np.savez(buf, t=self.t, y=self.y, meta=np.array(json.dumps(meta)))
@@ -209,6 +209,8 @@ def load_result(path, *, max_bytes=None):
                                      f"{max_bytes / 1e9:.3g} GB limit; pass load_result(..., max_bytes=...) if the "
                                      "file is yours and that memory is free")
             fh.seek(0)
+            import json
+
             with np.load(fh, allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
                 t, y = data["t"].copy(), data["y"].copy()

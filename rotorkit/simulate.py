@@ -29,7 +29,6 @@ import numpy as np
 
 from .errors import ParameterError, SimulationError
 from .memory import available_memory as _available_memory  # a module global: tests patch it here
-from .result import Result
 from .system import COMPILED_BACKENDS
 
 __all__ = ["simulate", "SCIPY_METHODS", "COMPILED_METHODS", "ENGINES"]
@@ -660,6 +659,8 @@ def _result(system, out_t, out_y, stats, options, engine, start_wall, success, m
                 contact_events=bool(options.get("contact_events", False)),
                 wall_time=_time.perf_counter() - start_wall, backend=system.backend, engine=engine,
                 success=success, message=message)
+    from .result import Result  # here: ``import rotorkit`` imports this module, not the result class
+
     return Result(t=t, y=y, state_names=system.state_names, parameters=system.parameters, stats=full,
                   name=system.name)
 

@@ -1,7 +1,6 @@
 """The compiled numeric system: ``rhs(t, y)`` in scipy's ``fun(t, y)`` form."""
 
 import copy
-import difflib
 import os
 
 import numpy as np
@@ -189,6 +188,8 @@ class System:
         try:
             return self.state_names.index(name)
         except ValueError:
+            import difflib
+
             near = difflib.get_close_matches(name, self.state_names, n=3)
             hint = f"; did you mean {', '.join(near)}?" if near else ""
             raise ParameterError(f"unknown state {name!r}{hint} (states: {', '.join(self.state_names)})") from None

@@ -7,7 +7,6 @@ any pint registry is accepted: it is converted with its own registry.
 import math
 import numbers
 import re
-from fractions import Fraction
 
 from .errors import ParameterError, UnitError
 
@@ -58,7 +57,11 @@ def _tokens(text, where):
 
 
 class _UnitParser:
-    """Recursive descent over the unit tokens; builds {name: exponent} with bounded exponents."""
+    """Recursive descent over the unit tokens; builds {name: exponent} with bounded exponents.
+
+    Exponents are ints, or :class:`fractions.Fraction` for a fractional one (``m^1.5``, ``s^(1/2)``; the
+    module is imported then: reading ``"2 MN/m"`` does not need it).
+    """
 
     def __init__(self, tokens, where):
         self.tokens, self.pos, self.where, self.names = tokens, 0, where, 0
@@ -105,7 +108,7 @@ class _UnitParser:
             self.names += 1
             if self.names > MAX_NAMES:
                 self.fail(f"more than {MAX_NAMES} unit names")
-            powers = {text: Fraction(1)}
+            powers = {text: 1}
         elif kind == "op" and text == "(":
             if depth >= MAX_DEPTH:
                 self.fail(f"more than {MAX_DEPTH} nested parentheses")
@@ -129,12 +132,18 @@ class _UnitParser:
     def exponent(self):
         """A small exponent: ``n``, ``n.5`` style decimals (``1.5``) or a fraction in parentheses ``(3/2)``."""
         kind, text = self.take()
-        if kind == "int" and re.fullmatch(r"[+-]?\d{1,2}(?:\.\d{1,2})?", text):
+        if kind == "int" and re.fullmatch(r"[+-]?\d{1,2}", text):
+            return int(text)
+        if kind == "int" and re.fullmatch(r"[+-]?\d{1,2}\.\d{1,2}", text):
+            from fractions import Fraction
+
             return Fraction(text)
         if (kind, text) == ("op", "("):
             (k1, num), (k2, op), (k3, den), (k4, close) = (self.take() for _ in range(4))
             if (k1, k2, k3, k4, op, close) == ("int", "op", "int", "op", "/", ")") and \
                     re.fullmatch(r"[+-]?\d{1,2}", num) and re.fullmatch(r"\d{1,2}", den) and int(den) > 0:
+                from fractions import Fraction
+
                 return Fraction(int(num), int(den))
         self.fail(f"the exponent {text!r} is not a small number (n, 1.5 or (3/2))")
 

@@ -51,99 +51,49 @@ the declarations that apply; nothing else in the package changes.
 
 import dataclasses
 import functools
-from dataclasses import dataclass, field
-from typing import ClassVar, Mapping
+import sys
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, Mapping
 
 from ..errors import ParameterError
 from ..units import to_si
 
-__all__ = ["Element", "Terms", "QuadraticForm", "AXES"]
+__all__ = ["Element", "Terms", "QuadraticForm", "AXES", "loaded_types"]
+
+if TYPE_CHECKING:  # defined in .terms, loaded on first use (see __getattr__)
+    from .terms import QuadraticForm, Terms
 
 #: the standard coordinate axes, in coordinate order
 AXES = ("x", "y", "alpha", "thx", "thy")
 
 
-@dataclass(frozen=True, slots=True)
-class Terms:
-    """What one element adds to the Lagrangian system.
+def __getattr__(name):
+    """``Terms`` and ``QuadraticForm`` (:mod:`rotorkit.elements.terms`), imported when first used: deriving needs
+    them, building and reading models does not."""
+    if name in ("Terms", "QuadraticForm"):
+        from . import terms
 
-    Attributes
-    ----------
-    kinetic, potential, dissipation : sympy.Expr
-        T(q, q', t), V(q, t) and the Rayleigh function D(q') of the element.
-    loads : Mapping[sympy.Symbol, sympy.Expr]
-        Generalised forces Q_j on coordinates q_j (non-conservative or
-        time-dependent loads: contact, bearing, manoeuvre).
-    switches : tuple of sympy.Expr
-        Functions g(q, t) whose zero crossings are kinks of the equations
-        (contact onset and loss); an integrator may locate them and restart.
+        return getattr(terms, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
-    An energy left out is sympy's zero (sympy is imported here, when an
-    element contributes, not when it is built: a warm start derives nothing
-    and never loads sympy).
+
+def loaded_types(*names):
+    """The classes ``"module.Class"`` of :mod:`rotorkit.elements` whose module is imported, as a tuple.
+
+    For ``isinstance`` checks against an optional companion type (a rotor's
+    ``Drive``, a bearing's ``Pedestal``, a ``BaseRotation`` in the model)
+    without importing its module: no instance of a class exists before its
+    module is imported, so ``isinstance(x, loaded_types("drive.Drive"))`` is
+    the same as ``isinstance(x, Drive)``, and a model without one never
+    loads that module (``isinstance(x, ())`` is False).
     """
-
-    kinetic: object = None
-    potential: object = None
-    dissipation: object = None
-    loads: Mapping = field(default_factory=dict)
-    switches: tuple = ()
-    quadratic: tuple = ()
-
-    def __post_init__(self):
-        import sympy as sp
-
-        for name in ("kinetic", "potential", "dissipation"):
-            if getattr(self, name) is None:
-                object.__setattr__(self, name, sp.S.Zero)
-
-
-@dataclass(frozen=True, slots=True)
-class QuadraticForm:
-    """Energies that are quadratic forms over a few coordinates (finite elements).
-
-    ``T = 1/2 u^T M u + u^T N q``, ``V = 1/2 q^T K q``, ``D = 1/2 u^T C u``
-    with ``q`` the coordinates and ``u = q'`` their speeds. Lagrange's
-    equations of these are ``M q'' + (N - N^T) q' + C q' + K q`` (``N`` holds
-    the gyroscopic terms, e.g. ``Omega I_p thx' thy``; when ``N`` depends on
-    time, a changing spin speed, the equations also hold ``N' q``: the
-    ``I_p Omega'`` terms), so the derivation adds
-    the matrices directly instead of differentiating; :meth:`kinetic` and
-    friends give the same energies as expressions.
-
-    Attributes
-    ----------
-    coordinates, speeds : tuple of sympy.Symbol
-        q and q' of the form, length m.
-    mass, stiffness, damping, gyroscopic : sympy.Matrix or None
-        m x m; None for a zero matrix. ``mass``, ``stiffness`` and
-        ``damping`` symmetric.
-    """
-
-    coordinates: tuple
-    speeds: tuple
-    mass: object = None
-    stiffness: object = None
-    damping: object = None
-    gyroscopic: object = None
-
-    def _form(self, A, left, right):
-        import sympy as sp
-
-        if A is None:
-            return sp.S.Zero
-        m = len(left)
-        return sp.Add(*[A[i, j] * left[i] * right[j] for i in range(m) for j in range(m) if A[i, j] != 0])
-
-    def kinetic(self):
-        return self._form(self.mass, self.speeds, self.speeds) / 2 + self._form(self.gyroscopic, self.speeds,
-                                                                                self.coordinates)
-
-    def potential(self):
-        return self._form(self.stiffness, self.coordinates, self.coordinates) / 2
-
-    def dissipation(self):
-        return self._form(self.damping, self.speeds, self.speeds) / 2
+    found = []
+    for name in names:
+        module, _, cls = name.rpartition(".")
+        value = getattr(sys.modules.get(f"{__package__}.{module}"), cls, None)
+        if value is not None:
+            found.append(value)
+    return tuple(found)
 
 
 @functools.cache
@@ -312,7 +262,7 @@ class Element:
         """A copy with some parameter fields changed (SI values), fully re-validated."""
         return dataclasses.replace(self, **fields)
 
-    def contribute(self, ctx) -> Terms:
+    def contribute(self, ctx) -> "Terms":
         """Return the element's :class:`Terms` (override)."""
         raise NotImplementedError
 

@@ -28,8 +28,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, QuadraticForm, Terms
-from .base_motion import BaseRotation, base_frame, tilt_loads
+from .base import Element, loaded_types
 from .material import Material
 from .rotor import check_station
 
@@ -314,8 +313,9 @@ class BeamSegment(Element):
         return tuple(links)
 
     def check(self, model):
-        for e in model.elements:
-            if isinstance(e, BaseRotation):
+        turning_base = loaded_types("base_motion.BaseRotation")  # (its module is loaded if the model has one)
+        for e in model.elements if turning_base else ():
+            if isinstance(e, turning_base):
                 z0, z1 = e.axial_position(self.start), e.axial_position(self.end)
                 if z0 is not None and z1 is not None and not math.isclose(z1 - z0, self.length, rel_tol=1e-9,
                                                                           abs_tol=1e-12):
@@ -432,6 +432,9 @@ class BeamSegment(Element):
     def contribute(self, ctx):
         import sympy as sp
 
+        from .base_motion import base_frame
+        from .terms import QuadraticForm, Terms
+
         p = ctx.p
         (placeholders, spin_symbol), mass_t, stiffness_t, gyro_t, circ_t = self._forms_template()
         rename = {v: p[k] for k, v in placeholders.items() if k in p}
@@ -484,9 +487,11 @@ class BeamSegment(Element):
         interpolated by the shape functions, so the integral is the translational mass matrix
         times nodal vectors. Rotation: :func:`tilt_kinetic` per unit length (``rho I``,
         ``rho I_p``) integrated over the element with the rotation shape functions
-        (:func:`tilt_loads`).
+        (:func:`~rotorkit.elements.base_motion.tilt_loads`).
         """
         import sympy as sp
+
+        from .base_motion import tilt_loads
 
         per_element = self._base_rotation_matrices(ctx)
         W, c = frame.W, frame.c

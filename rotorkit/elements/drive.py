@@ -65,7 +65,7 @@ import numpy as np
 
 from ..errors import ParameterError, TopologyError
 from ..units import to_si
-from .speed import check_table
+from .tabulated import check_table
 
 __all__ = ["Drive"]
 

@@ -61,17 +61,15 @@ support mass with its own springs to the ground: ``d`` is the journal
 displacement minus the pedestal's (``px<station>``, ``py<station>``).
 """
 
-import csv
 import dataclasses
 import re
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms
-from .base_motion import base_frame, point_mass_loads
-from .pedestal import PEDESTAL_AXES, Pedestal
+from .base import Element, loaded_types
 from .rotor import check_station
-from .speed import check_table
+from .tabulated import check_table
 
 __all__ = ["LinearBearing"]
 
@@ -88,6 +86,16 @@ _ENTRY = re.compile(r"([a-z]+?)(\d+)(?:_(\d+))?")
 INTERPOLATIONS = ("linear", "pchip")
 EXTRAPOLATIONS = ("hold", "linear")
 _PEDESTAL = "pedestal_"
+
+if TYPE_CHECKING:  # for the annotation only: the module loads when a bearing has a pedestal
+    from .pedestal import Pedestal
+
+
+def _pedestal_axes():
+    """The pedestal's coordinate axes (``px``, ``py``), from its module (imported when a bearing has one)."""
+    from .pedestal import PEDESTAL_AXES
+
+    return PEDESTAL_AXES
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -137,6 +145,7 @@ class LinearBearing(Element):
     >>> b = LinearBearing.tabulated(station=1, speeds=[0.0, 500.0], kxx=[1e6, 2e6], kyy=[1e6, 2e6])
     >>> sorted(b.parameters())[:3]
     ['kxx0', 'kxx1', 'kyy0']
+    >>> from rotorkit.elements import Pedestal
     >>> b = LinearBearing(station=1, kxx=1e8, kyy=1e8, pedestal=Pedestal(mass=40.0, kxx=5e7, kyy=2e7))
     >>> sorted(b.parameters())
     ['kxx', 'kyy', 'pedestal_kxx', 'pedestal_kyy', 'pedestal_mass']
@@ -169,7 +178,7 @@ class LinearBearing(Element):
     whirl: float | None = None
     interpolation: str = "linear"
     extrapolation: str = "hold"
-    pedestal: Pedestal | None = None
+    pedestal: "Pedestal | None" = None
 
     _units = {
         "kxx": ("N/m", "nonnegative"), "kxy": ("N/m", None), "kyx": ("N/m", None), "kyy": ("N/m", "nonnegative"),
@@ -245,6 +254,8 @@ class LinearBearing(Element):
         """
         from ..units import to_si
 
+        import csv
+
         who = f"LinearBearing.from_csv({str(path)!r})"
         with open(path, newline="") as handle:
             rows = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)
@@ -311,6 +322,8 @@ class LinearBearing(Element):
         else:
             xs = self.speeds if self.speeds is not None else self.frequencies
             rows = [([x], [getattr(self, c)[i] for c in present]) for i, x in enumerate(xs)]
+        import csv
+
         with open(path, "w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow(axes + [f"{f} [{self._units[f][0]}]" for f in present])
@@ -396,7 +409,7 @@ class LinearBearing(Element):
         if not self._tabulated():
             self._check_added_mass()
         if self.pedestal is not None:
-            if not isinstance(self.pedestal, Pedestal):
+            if not isinstance(self.pedestal, loaded_types("pedestal.Pedestal")):  # (loaded if there is one)
                 raise ParameterError(f"{who}: pedestal = {self.pedestal!r}: expected a Pedestal(mass=..., kxx=..., "
                                      "kyy=...)")
             if self.other_station is not None:
@@ -476,6 +489,8 @@ class LinearBearing(Element):
 
     def parameter_sign(self, field_name):
         if field_name.startswith(_PEDESTAL):
+            from .pedestal import Pedestal
+
             return Pedestal._units[field_name[len(_PEDESTAL):]][1]
         if not self._tabulated():
             return Element.parameter_sign(self, field_name)
@@ -538,7 +553,7 @@ class LinearBearing(Element):
         return (self.station,) if self.other_station is None else (self.station, self.other_station)
 
     def coordinates(self):
-        return tuple((self.station, a) for a in PEDESTAL_AXES) if self.pedestal is not None else ()
+        return tuple((self.station, a) for a in _pedestal_axes()) if self.pedestal is not None else ()
 
     def inertia(self):
         return self.coordinates()
@@ -553,7 +568,7 @@ class LinearBearing(Element):
             return ()
         tilts = ((self.station, "thx"), (self.station, "thy")) if self._tilted() else ()
         if self.pedestal is not None:
-            return tuple((self.station, a) for a in PEDESTAL_AXES) + tilts
+            return tuple((self.station, a) for a in _pedestal_axes()) + tilts
         return ((self.station, "x"), (self.station, "y")) + tilts
 
     def stiffness_links(self):
@@ -647,8 +662,10 @@ class LinearBearing(Element):
     def contribute(self, ctx):
         import sympy as sp
 
+        from .terms import Terms
+
         if self.pedestal is not None:
-            housing = PEDESTAL_AXES
+            housing = _pedestal_axes()
         else:
             housing = None if self.other_station is None else ("x", "y")
         added = _MASS if any(getattr(self, f) is not None for f in _MASS) else None
@@ -663,6 +680,8 @@ class LinearBearing(Element):
             p = {f[len(_PEDESTAL):]: s for f, s in ctx.p.items() if f.startswith(_PEDESTAL)}
             t, v, d = self.pedestal.terms(p, ctx.coord(self.station, "px"), ctx.coord(self.station, "py"))
             kinetic, potential, dissipation = kinetic + t, potential + v, dissipation + d
+            from .base_motion import base_frame, point_mass_loads
+
             frame = base_frame(ctx)
             if frame is not None:  # the pedestal mass in a turning base
                 (px, pxd), (py, pyd) = ctx.coord(self.station, "px"), ctx.coord(self.station, "py")

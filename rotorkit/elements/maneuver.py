@@ -4,7 +4,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms
+from .base import Element
 
 __all__ = ["Maneuver"]
 
@@ -167,6 +167,8 @@ class Maneuver(Element):
         return ax, ay
 
     def contribute(self, ctx):
+        from .terms import Terms
+
         ax, ay = self.acceleration(ctx.t, ctx.p)
         # each element's mass under the uniform field: Q = (M r_x) a_x + (M r_y) a_y
         loads = {q: mx * ax + my * ay for q, (mx, my) in ctx.rigid_body_masses().items()}

@@ -5,8 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms
-from .base_motion import base_frame, tilt_kinetic
+from .base import Element
 from .rotor import check_station
 
 __all__ = ["Disk", "DiskGeometry", "LumpedMass"]
@@ -239,6 +238,8 @@ class Disk(Element):
     def contribute(self, ctx):
         import sympy as sp
 
+        from .terms import Terms
+
         p = ctx.p
         (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         spin = ctx.speed(self.station)
@@ -256,6 +257,8 @@ class Disk(Element):
         if self.diametral_inertia is not None:
             (a, ad), (b, bd) = ctx.coord(self.station, "thx"), ctx.coord(self.station, "thy")
             kinetic += p["diametral_inertia"] * (ad**2 + bd**2) / 2 + self.polar_inertia_expr(p) * phi_dot * ad * b
+            from .base_motion import base_frame, tilt_kinetic
+
             frame = base_frame(ctx)
             if frame is not None:  # a turning base: its gyroscopic and Euler moments on the tilts
                 kinetic += tilt_kinetic(p["diametral_inertia"], self.polar_inertia_expr(p), phi_dot, (a, b), (ad, bd),
@@ -308,5 +311,7 @@ class LumpedMass(Element):
         return {x: (m, sp.S.Zero), y: (sp.S.Zero, m)}
 
     def contribute(self, ctx):
+        from .terms import Terms
+
         (_, xd), (_, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         return Terms(kinetic=ctx.p["mass"] * (xd**2 + yd**2) / 2)

@@ -3,16 +3,29 @@
 import dataclasses
 import numbers
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms
-from .damping import PREFIX as _DAMPING, ModalDamping, Rayleigh, rayleigh_terms
-from .drive import Drive
-from .speed import SpeedProfile
+from .base import Element, loaded_types
+
+# SpeedProfile, Drive, Rayleigh and ModalDamping are looked up by loaded_types (a rotor holding one
+# imported its module): a rotor at a constant speed without damping never loads those modules.
+_LAWS = ("speed.SpeedProfile", "drive.Drive")
+_DAMPINGS = ("damping.Rayleigh", "damping.ModalDamping")
+
+if TYPE_CHECKING:  # for the annotations only
+    from .damping import ModalDamping, Rayleigh
 
 __all__ = ["Rotor", "check_station", "torque_targets"]
+
+
+def _rayleigh():
+    """:class:`~rotorkit.elements.damping.Rayleigh` (its units serve both dampings), imported when a rotor has one."""
+    from .damping import Rayleigh
+
+    return Rayleigh
 
 
 def check_station(owner, station, field="station"):
@@ -91,7 +104,7 @@ class Rotor(Element):
     speed: float | None = None
     speed_ratio: float | None = None
     reference: str | None = None
-    damping: Rayleigh | ModalDamping | None = None
+    damping: "Rayleigh | ModalDamping | None" = None
 
     _units = {"speed": ("rad/s", None), "speed_ratio": ("", "positive")}
     _latex_names = {"speed": r"\Omega", "speed_ratio": r"\gamma"}
@@ -106,7 +119,7 @@ class Rotor(Element):
                                  "e.g. (1, 2, 3)")
         object.__setattr__(self, "stations", tuple(check_station(f"Rotor {self.name!r}", st, "stations")
                                                    for st in self.stations))
-        profile = self.speed if isinstance(self.speed, (SpeedProfile, Drive)) else None
+        profile = self.speed if isinstance(self.speed, loaded_types(*_LAWS)) else None
         if profile is not None:  # the profile (or drive) holds its own checked values
             object.__setattr__(self, "speed", 0.0)
         Element.__post_init__(self)
@@ -132,7 +145,7 @@ class Rotor(Element):
             raise ParameterError(f"Rotor {self.name!r}: reference = {self.reference!r}: expected a rotor name (str)")
         if self.speed is not None and self.reference is not None:
             raise ParameterError(f"Rotor {self.name!r}: reference is only used with speed_ratio")
-        if self.damping is not None and not isinstance(self.damping, (Rayleigh, ModalDamping)):
+        if self.damping is not None and not isinstance(self.damping, loaded_types(*_DAMPINGS)):
             raise ParameterError(f"Rotor {self.name!r}: damping = {self.damping!r}: expected Rayleigh(alpha, beta), "
                                  "ModalDamping(ratios=...) or None")
 
@@ -166,8 +179,9 @@ class Rotor(Element):
             seen.append(r.name)
         if self.drive is not None:
             self.drive.check(self, model)
-        if isinstance(self.damping, ModalDamping):
-            others = [r.name for r in model.rotors.values() if isinstance(r.damping, ModalDamping)]
+        modal = loaded_types("damping.ModalDamping")
+        if isinstance(self.damping, modal):
+            others = [r.name for r in model.rotors.values() if isinstance(r.damping, modal)]
             if len(others) > 1:
                 raise TopologyError(f"Rotors {others} each have ModalDamping: the modes are the model's, so give "
                                     "ModalDamping(ratios=...) to one rotor only")
@@ -188,9 +202,13 @@ class Rotor(Element):
         return self.name
 
     def contribute(self, ctx):
+        from .terms import Terms
+
+        rayleigh = isinstance(self.damping, loaded_types("damping.Rayleigh"))
+        if rayleigh:
+            from .damping import rayleigh_terms
         parts = [terms for terms in (None if self.drive is None else self.drive.contribute(self, ctx),
-                                     None if not isinstance(self.damping, Rayleigh)
-                                     else rayleigh_terms(self, ctx)) if terms is not None]
+                                     rayleigh_terms(self, ctx) if rayleigh else None) if terms is not None]
         if len(parts) < 2:
             return parts[0] if parts else Terms()
         (a, b), loads = parts, dict(parts[0].loads)
@@ -204,12 +222,12 @@ class Rotor(Element):
     @property
     def profile(self):
         """The :class:`SpeedProfile`, or None for a constant speed or a ratio."""
-        return self.speed if isinstance(self.speed, SpeedProfile) else None
+        return self.speed if isinstance(self.speed, loaded_types("speed.SpeedProfile")) else None
 
     @property
     def drive(self):
         """The :class:`~rotorkit.elements.drive.Drive` (speed a degree of freedom), or None."""
-        return self.speed if isinstance(self.speed, Drive) else None
+        return self.speed if isinstance(self.speed, loaded_types("drive.Drive")) else None
 
     @property
     def _law(self):
@@ -223,27 +241,27 @@ class Rotor(Element):
         return {**{f"speed_{k}": v for k, v in self._law.values().items()}, **damping}
 
     def parameter_units(self):
-        damping = {} if self.damping is None else {f: Rayleigh.unit_of(f) for f in self.damping.parameters()}
+        damping = {} if self.damping is None else {f: _rayleigh().unit_of(f) for f in self.damping.parameters()}
         if self._law is None:
             return {**Element.parameter_units(self), **damping}
         return {**{f"speed_{k}": u for k, u in self._law.units().items()}, **damping}
 
     def parameter_sign(self, field_name):
-        if field_name.startswith(_DAMPING):
+        if self._damping_field(field_name):
             return "nonnegative"
         if self.drive is not None:
             return self.drive.signs().get(field_name[len("speed_"):])
         return None if self.profile is not None else Element.parameter_sign(self, field_name)
 
     def unit_of(self, field_name):
-        if field_name.startswith(_DAMPING):
-            return Rayleigh.unit_of(field_name)
+        if self._damping_field(field_name):
+            return _rayleigh().unit_of(field_name)
         if self._law is not None and field_name.startswith("speed_"):
             return self._law.units()[field_name[len("speed_"):]]
         return Element.unit_of(self, field_name)
 
     def replace_parameters(self, **fields):
-        damped = {k: fields.pop(k) for k in list(fields) if k.startswith(_DAMPING)}
+        damped = {k: fields.pop(k) for k in list(fields) if self._damping_field(k)}
         new = self if not damped else dataclasses.replace(self, damping=self.damping.replace(**damped))
         if not fields:
             return new
@@ -251,6 +269,14 @@ class Rotor(Element):
             return Element.replace_parameters(new, **fields)
         law = new._law.with_values(**{k[len("speed_"):]: v for k, v in fields.items()})
         return dataclasses.replace(new, speed=law)
+
+    def _damping_field(self, field_name):
+        """Whether ``field_name`` is a parameter of the rotor's damping (``damping_...``; none without damping)."""
+        if self.damping is None:
+            return False
+        from .damping import PREFIX
+
+        return field_name.startswith(PREFIX)
 
     def time_event_fields(self):
         if self._law is None:

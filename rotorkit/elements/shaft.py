@@ -3,7 +3,7 @@
 from dataclasses import dataclass
 
 from ..errors import ParameterError, TopologyError
-from .base import Element, Terms
+from .base import Element
 from .rotor import check_station
 
 __all__ = ["ShaftSegment", "END_CONDITIONS"]
@@ -184,6 +184,8 @@ class ShaftSegment(Element):
         return self.shear_modulus * self.polar_area_moment / self.length
 
     def contribute(self, ctx):
+        from .terms import Terms
+
         p = ctx.p
         potential = dissipation = 0
         if self.has_bending():

@@ -40,15 +40,11 @@ Examples
 (200.0, 100.0)
 """
 
-import math
-import numbers
 from dataclasses import dataclass, field
 from typing import Callable
 
-import numpy as np
-
 from ..errors import ParameterError
-from ..units import to_si
+from .tabulated import check_table, finite_number
 
 __all__ = ["SpeedProfile", "check_table"]
 
@@ -63,38 +59,6 @@ def __getattr__(name):
 
         return getattr(tables, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def _finite(value, name):
-    if isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"{name} = {value!r}: expected a number")
-    if not isinstance(value, numbers.Real) or not math.isfinite(value):
-        raise ParameterError(f"{name} = {value!r}: expected a finite number")
-    return float(value)
-
-
-def check_table(xs, name_x, name_y, ys, *, unit_x, unit_y, owner, min_points=2):
-    """Validate a table: same lengths, >= ``min_points`` points, strictly increasing ``xs``; SI floats out."""
-    for nm, seq in ((name_x, xs), (name_y, ys)):
-        if isinstance(seq, (str, bytes)) or not hasattr(seq, "__len__"):
-            raise ParameterError(f"{owner}: {nm} = {seq!r}: expected a sequence of numbers")
-    if len(xs) != len(ys):
-        raise ParameterError(
-            f"{owner}: {name_x} has {len(xs)} entries but {name_y} has {len(ys)}; give one value per {name_x} entry"
-        )
-    if len(xs) < min_points:
-        raise ParameterError(f"{owner}: {name_x} = {list(xs)!r}: expected at least {min_points} points")
-    xs = tuple(_finite(to_si(v, unit_x, f"{owner} {name_x}[{i}]"), f"{owner} {name_x}[{i}]")
-               for i, v in enumerate(xs))
-    ys = tuple(_finite(to_si(v, unit_y, f"{owner} {name_y}[{i}]"), f"{owner} {name_y}[{i}]")
-               for i, v in enumerate(ys))
-    for i in range(len(xs) - 1):
-        if not xs[i + 1] > xs[i]:
-            raise ParameterError(
-                f"{owner}: {name_x} = {list(xs)!r} is not strictly increasing at index {i + 1} "
-                f"({xs[i + 1]!r} <= {xs[i]!r}); sort the table and drop repeated entries"
-            )
-    return xs, ys
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)
@@ -149,7 +113,7 @@ class SpeedProfile:
             for name, value in self.constants:
                 if not isinstance(name, str) or not name.isidentifier() or name == "t":
                     raise ParameterError(f"{who}.expression: parameter name {name!r}: expected an identifier other than 't'")
-                consts.append((name, _finite(value, f"{who}.expression parameter {name!r}")))
+                consts.append((name, finite_number(value, f"{who}.expression parameter {name!r}")))
             object.__setattr__(self, "constants", tuple(consts))
             import sympy as sp
 

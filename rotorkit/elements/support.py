@@ -3,7 +3,7 @@
 from dataclasses import dataclass
 
 from ..errors import ParameterError
-from .base import Element, Terms
+from .base import Element
 from .rotor import check_station
 
 __all__ = ["ElasticSupport"]
@@ -51,6 +51,8 @@ class ElasticSupport(Element):
         return ((self.station, "x"), (self.station, "y"))
 
     def contribute(self, ctx):
+        from .terms import Terms
+
         (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         k, c = ctx.p["stiffness"], ctx.p["damping"]
         return Terms(potential=k * (x**2 + y**2) / 2, dissipation=c * (xd**2 + yd**2) / 2)

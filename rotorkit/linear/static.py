@@ -14,9 +14,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .linearize import check_system, static_equilibrium
-from .whirl import station_pairs
-
 __all__ = ["StaticDeflection", "static_deflection", "holds_rotor"]
 
 def holds_rotor(element, model):
@@ -72,6 +69,8 @@ class StaticDeflection:
 
     @property
     def stations(self):
+        from .whirl import station_pairs
+
         return tuple(s for s, _, _ in station_pairs(tuple(self.deflection)))
 
     def reaction(self, label, station):
@@ -214,7 +213,9 @@ def static_deflection(system, t=0.0, **equilibrium):
             system = system.compile()
         else:
             model, parameters, names = system, system.parameters, tuple(system.coordinate_names)
-    if q is None:
+    if q is None:  # not a linear model (or options for the solver): the compiled system's equilibrium
+        from .linearize import check_system, static_equilibrium
+
         check_system(system, "static_deflection")
         q = static_equilibrium(system, t, **equilibrium)
         model, parameters, names = system.model, system.parameters, tuple(system.coordinate_names)
