@@ -100,6 +100,14 @@ def test_round_trip_is_exact(build, tmp_path):
 
 def test_round_trip_equations_and_rhs_identical(tmp_path):
     model = sink_model()
+    with pytest.raises(ParameterError, match="ModalDamping: model 'sink' has forces that are not linear"):
+        model.compile(backend="python")  # its rub and Hertzian bearings leave no undamped modes to damp
+
+    def undamped(e):
+        modal = isinstance(e, rk.Rotor) and isinstance(e.damping, rk.ModalDamping)
+        return dataclasses.replace(e, damping=None) if modal else e
+
+    model = rk.Model([undamped(e) for e in model.elements], name="sink")
     loaded = rk.load_model(model.save(tmp_path / "m.toml"))
     a, b = model.equations(), loaded.equations()
     assert a.mass_matrix == b.mass_matrix and a.forcing == b.forcing
