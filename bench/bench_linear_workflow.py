@@ -25,7 +25,10 @@ Each task is one fresh ``python`` process doing what a user types, from
                FILE``), tables printed, CSV and figures written (to a
                temporary folder): the figures (matplotlib) are part of it
 ``load``       ``import rotorkit`` + the model file alone (the fixed part of
-               every task above: numpy, pint's registry for the units)
+               every task above: numpy and rotorkit's own modules)
+``python``     ``import numpy`` alone: the floor under every task (the
+               interpreter, this environment's ``site`` with its ``.pth``
+               hooks, numpy), measured in the same run
 
 ``--pyc`` lets Python keep rotorkit's bytecode (in a temporary
 ``PYTHONPYCACHEPREFIX``, filled by the untimed first run of a warm task), as
@@ -91,6 +94,7 @@ TASKS = {
         "result = static_deflection(model)\n"
         "assert result.deflection['y10'] < 0\n"),
     "load": _LOAD,
+    "python": "import numpy as np\n",
     "equations": None,  # the CLI
     "cli-campbell": None,
     "cli-unbalance": None,
