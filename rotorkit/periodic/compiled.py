@@ -137,6 +137,8 @@ def _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef
                         sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
                     Fq[i, l] = sq
                     Fv[i, l] = sv
+            if not (np.any(Fq != 0.0) or np.any(Fv != 0.0)):
+                continue  # the linear part alone here (no contact at this instant): nothing to project
             for c in range(H2):
                 pc = P[c, j]
                 for d in range(H2):
@@ -619,6 +621,8 @@ def _hill(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window,
                     sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
                 Fq[i, l] = sq
                 Fv[i, l] = sv
+        if not (np.any(Fq != 0.0) or np.any(Fv != 0.0)):
+            continue
         for c in range(H2):
             for d in range(H2):
                 w = P[c, j] * E[j, d]
