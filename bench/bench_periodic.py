@@ -153,10 +153,27 @@ def section_a(repeat, runs):
     print(f"    time integration to a settled orbit ({SETTLE_PERIODS} periods, C engine): {per_run:.3f} s per speed, "
           f"{n} speeds {n * per_run:.1f} s")
     loop, data = (statistics.median(p[k] for p in parts) for k in (0, 1))
-    compiled = "compiled" if fastpath.compiled_setup(_problem(system)) is not None else "Python (numba missing?)"
+    problem = _problem(system)
+    compiled = "compiled" if fastpath.compiled_setup(problem) is not None else "Python (numba missing?)"
+    errors_only = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fastpath.point_data(problem, branch.parameter, branch.coefficients, "none", 4)
+        errors_only.append(time.perf_counter() - t0)
+    alone = statistics.median(errors_only)
     print(f"    per point ({compiled} path): continuation {1e3 * loop / n:.3f} ms, error estimate + Hill "
-          f"{1e3 * data / n:.3f} ms, the rest (start solution, amplitude scale, fold location) "
-          f"{1e3 * (hb - loop - data) / n:.3f} ms; first call of the process (kernels loaded or compiled) {warm:.1f} s")
+          f"{1e3 * data / n:.3f} ms (the error estimate alone {1e3 * alone / n:.3f} ms), the rest (start solution, "
+          f"amplitude scale, fold location) {1e3 * (hb - loop - data) / n:.3f} ms; first call of the process (kernels "
+          f"loaded or compiled) {warm:.1f} s")
+    os.environ["ROTORKIT_PERIODIC_COMPILED"] = "0"
+    try:
+        t0 = time.perf_counter()
+        periodic_response(system, speeds=SPEEDS, harmonics=3, step=0.012, max_step=0.03)
+        python = time.perf_counter() - t0
+    finally:
+        del os.environ["ROTORKIT_PERIODIC_COMPILED"]
+    print(f"    the same branch on the Python path (ROTORKIT_PERIODIC_COMPILED=0, once): {python:.3f} s, "
+          f"{python / hb:.2g}x the compiled path's time")
     print(f"    ratio {n * per_run / hb:.2g}x (target >= 50x); load {load():.1f}")
 
 

@@ -1,9 +1,8 @@
 """Small dense linear algebra compiled with numba for the compiled harmonic-balance path.
 
-LAPACK's general eigensolver costs about half a millisecond for a 28 x 28
-matrix on the machines this was measured on (its call and blocking overheads
-dominate at that size); the Hill matrices of small systems are of that size,
-one per branch point. Here: balancing, reduction to upper Hessenberg form by
+At the sizes of the Hill matrices of small systems (a few dozen rows, one per
+branch point) the call and blocking overheads of LAPACK's general
+eigensolver dominate. Here: balancing, reduction to upper Hessenberg form by
 stabilised elementary similarity transformations and the Francis
 double-shift QR iteration (the classical EISPACK ``balanc``/``elmhes``/
 ``hqr`` sequence), eigenvalues only; an LU factorisation with partial

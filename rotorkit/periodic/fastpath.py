@@ -130,7 +130,36 @@ def _new_setup(problem):
 
     switches = numba_function(module, "switches") if hasattr(module, "switches") else _no_switches()
     functions = (numba_function(module, "rhs"), numba_function(module, "jac"), switches)
-    return CompiledSetup(hb, functions, fit, evaluator._window, mass)
+    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
+
+
+def _addressed(functions):
+    """The model's jitted functions as objects holding their compiled address (numba's wrapper address
+    protocol): passing a dispatcher makes numba look the address up at every kernel call (about 0.1 ms each);
+    the dispatchers themselves where that fails."""
+    try:
+        from numba import types
+        from numba.experimental.function_type import _get_wrapper_address
+
+        vec, mat = types.float64[::1], types.float64[:, ::1]
+        signatures = (types.void(types.float64, vec, vec, vec), types.void(types.float64, vec, vec, mat),
+                      types.void(types.float64, vec, vec, vec))
+
+        class Addressed(types.WrapperAddressProtocol):
+            def __init__(self, dispatcher, signature):
+                self.dispatcher = dispatcher  # keeps the compiled code alive
+                self._signature = signature
+                self._address = _get_wrapper_address(dispatcher, signature)
+
+            def __wrapper_address__(self):
+                return self._address
+
+            def signature(self):
+                return self._signature
+
+        return tuple(Addressed(f, s) for f, s in zip(functions, signatures))
+    except Exception:  # noqa: BLE001 - a numba without this protocol: the dispatchers work, a little slower
+        return functions
 
 
 @functools.lru_cache(maxsize=None)
@@ -291,12 +320,18 @@ def switches_compiled(problem, z, lam):
     setup = compiled_setup(problem)
     if setup is None:
         return None
+    z = np.asarray(z, dtype=float)
+    key = (float(lam), z.tobytes())
+    last = getattr(setup, "_last_switches", None)
+    if last is not None and last[0] == key:  # gap and contact_state are asked at the same point in turn
+        return last[1]
     fl = np.zeros(12)
     fl[0], fl[11] = setup.s0, lam
     ns = setup.hb.system.n_switches
-    _, _, gap, state = _call(setup, 4, np.append(np.asarray(z, dtype=float), 0.0), np.zeros(setup.hb.size + 1), fl,
-                             corner_size=ns)
-    return float(gap), state[:ns].copy()
+    _, _, gap, state = _call(setup, 4, np.append(z, 0.0), np.zeros(setup.hb.size + 1), fl, corner_size=ns)
+    found = float(gap), state[:ns].copy()
+    setup._last_switches = (key, found)
+    return found
 
 
 def point_data(problem, parameter, coefficients, stability, grid_factor):
