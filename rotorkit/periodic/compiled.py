@@ -695,13 +695,15 @@ def _hill(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window,
         for k in range(H2):
             power[k] = 0.0
         for i in range(n):
-            power[H] += abs(x[i]) ** 2
+            power[H] += x[i].real ** 2 + x[i].imag ** 2
         for k in range(1, H + 1):
             for i in range(n):
                 a = x[(2 * k - 1) * n + i]
                 b = x[2 * k * n + i]
-                power[H + k] += abs(a - 1j * b) ** 2 / 4.0
-                power[H - k] += abs(a + 1j * b) ** 2 / 4.0
+                minus = a - 1j * b
+                plus = a + 1j * b
+                power[H + k] += (minus.real ** 2 + minus.imag ** 2) / 4.0
+                power[H - k] += (plus.real ** 2 + plus.imag ** 2) / 4.0
         total = 0.0
         weighted = 0.0
         for k in range(H2):

@@ -277,31 +277,38 @@ def eigenvalues(A, wr, wi):
 
 
 @numba.njit(cache=False)
+def _size(c):
+    """``|re| + |im|``: LAPACK's measure for complex pivots (no square root)."""
+    return abs(c.real) + abs(c.imag)
+
+
+@numba.njit(cache=False)
 def complex_null_vector(G, x):
     """A vector ``x`` with ``G x ~ 0`` for a nearly singular complex ``G`` (destroyed): one inverse-iteration
-    step, ``G x = e`` (``e`` all ones) by LU with partial pivoting, a zero pivot replaced by a tiny one."""
+    step, ``G x = e`` (``e`` all ones) by LU with partial pivoting (pivots by ``|re| + |im|`` as LAPACK's), a
+    zero pivot replaced by a tiny one."""
     m = G.shape[0]
-    tiny = 1e-300
     big = 0.0
     for i in range(m):
         for j in range(m):
-            big = max(big, abs(G[i, j]))
-    floor = max(big * 1e-17, tiny)
+            big = max(big, _size(G[i, j]))
+    floor = max(big * 1e-17, 1e-300)
     piv = np.empty(m, dtype=np.int64)
     for k in range(m):
-        p, size = k, abs(G[k, k])
+        p, size = k, _size(G[k, k])
         for i in range(k + 1, m):
-            if abs(G[i, k]) > size:
-                p, size = i, abs(G[i, k])
+            s = _size(G[i, k])
+            if s > size:
+                p, size = i, s
         piv[k] = p
         if p != k:
             for j in range(m):
                 G[k, j], G[p, j] = G[p, j], G[k, j]
-        if abs(G[k, k]) < floor:
+        if _size(G[k, k]) < floor:
             G[k, k] = floor
-        pivot = G[k, k]
+        inverse = 1.0 / G[k, k]
         for i in range(k + 1, m):
-            f = G[i, k] / pivot
+            f = G[i, k] * inverse
             G[i, k] = f
             if f != 0.0:
                 for j in range(k + 1, m):
