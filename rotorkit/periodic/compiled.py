@@ -97,6 +97,7 @@ def _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef
     Aj = np.empty((2 * n, 2 * n))
     Fq = np.empty((n, n))
     Fv = np.empty((n, n))
+    Q = np.empty((n, size))
     for r in range(size):
         s = 0.0
         for c in range(size):
@@ -139,14 +140,19 @@ def _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef
                     Fv[i, l] = sv
             if not (np.any(Fq != 0.0) or np.any(Fv != 0.0)):
                 continue  # the linear part alone here (no contact at this instant): nothing to project
+            # row i of the instant's contribution to every block column: E[j, d] Fq[i, l] + w ED[j, d] Fv[i, l]
+            for i in range(n):
+                for d in range(H2):
+                    eq = E[j, d]
+                    ev = omega * ED[j, d]
+                    for l in range(n):
+                        Q[i, d * n + l] = eq * Fq[i, l] + ev * Fv[i, l]
             for c in range(H2):
                 pc = P[c, j]
-                for d in range(H2):
-                    cq = pc * E[j, d]
-                    cv = pc * omega * ED[j, d]
-                    for i in range(n):
-                        for l in range(n):
-                            J[c * n + i, d * n + l] -= cq * Fq[i, l] + cv * Fv[i, l]
+                for i in range(n):
+                    row = c * n + i
+                    for col in range(size):
+                        J[row, col] -= pc * Q[i, col]
     s = 0.0
     for r in range(size):
         s += R[r] * R[r]
@@ -608,6 +614,8 @@ def _hill(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window,
     Aj = np.empty((2 * n, 2 * n))
     Fq = np.empty((n, n))
     Fv = np.empty((n, n))
+    Qq = np.empty((n, size))
+    Qv = np.empty((n, size))
     for j in range(N):
         _states(z, j, omega, E, ED, n, y)
         Aj[:, :] = 0.0
@@ -623,13 +631,18 @@ def _hill(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window,
                 Fv[i, l] = sv
         if not (np.any(Fq != 0.0) or np.any(Fv != 0.0)):
             continue
-        for c in range(H2):
+        for i in range(n):
             for d in range(H2):
-                w = P[c, j] * E[j, d]
-                for i in range(n):
-                    for l in range(n):
-                        Kt[c * n + i, d * n + l] -= w * Fq[i, l]
-                        Ct[c * n + i, d * n + l] -= w * Fv[i, l]
+                for l in range(n):
+                    Qq[i, d * n + l] = E[j, d] * Fq[i, l]
+                    Qv[i, d * n + l] = E[j, d] * Fv[i, l]
+        for c in range(H2):
+            pc = P[c, j]
+            for i in range(n):
+                row = c * n + i
+                for col in range(size):
+                    Kt[row, col] -= pc * Qq[i, col]
+                    Ct[row, col] -= pc * Qv[i, col]
     # wD (H2, H2): D[2k-1, 2k] = k, D[2k, 2k-1] = -k
     wD = np.zeros((H2, H2))
     for k in range(1, H + 1):
