@@ -15,7 +15,11 @@ Sections (each prints what it measured in this run, and the load average):
             speeds, each from rest to a settled orbit (``SETTLE_PERIODS``
             periods, the way a sweep finds them), which times ``--runs``
             speeds and scales to the branch's point count. The ratio is the
-            issue's target (a), >= 50.
+            issue's target (a), >= 50. The branch runs on the compiled path
+            (rotorkit/periodic/fastpath.py); the bench prints how its time
+            per point splits (the continuation kernel, the per-point error
+            estimate and Hill kernel, the rest in Python) and the first
+            call's time (the kernels loaded from the disk cache, or compiled).
 ``b``       the 24-element (100-coordinate) beam rotor of bench/bench_fe.py
             with its rub stator, condensed onto the contact coordinates
             (``condense=True``): one harmonic-balance solution at a new speed
@@ -95,17 +99,45 @@ def settled_radius(system, speed, y0=None, periods=SETTLE_PERIODS):
     return float(np.max(np.hypot(run.y[0], run.y[1]))), run.y[:, -1]
 
 
+class _Timed:
+    """Wall time spent in a function of a module (replaced by a timing wrapper while the ``with`` lasts)."""
+
+    def __init__(self, module, name):
+        self.module, self.name, self.total = module, name, 0.0
+
+    def __enter__(self):
+        self.function = function = getattr(self.module, self.name)
+
+        def timed(*args, **kwargs):
+            t0 = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                self.total += time.perf_counter() - t0
+
+        setattr(self.module, self.name, timed)
+        return self
+
+    def __exit__(self, *exc):
+        setattr(self.module, self.name, self.function)
+
+
 def section_a(repeat, runs):
     from rotorkit.analysis.periodic import periodic_response
+    from rotorkit.periodic import fastpath
 
     system = jeffcott_rub().compile(backend="c")
+    t0 = time.perf_counter()
     periodic_response(system, speeds=SPEEDS, harmonics=3, max_points=20)  # warm: Jacobian module, C builds
+    warm = time.perf_counter() - t0
     settled_radius(system, 100.0, periods=10)
-    hb_times, branch = [], None
+    hb_times, branch, parts = [], None, []
     for _ in range(repeat):
-        t0 = time.perf_counter()
-        branch = periodic_response(system, speeds=SPEEDS, harmonics=3, step=0.012, max_step=0.03)
-        hb_times.append(time.perf_counter() - t0)
+        with _Timed(fastpath, "continue_compiled") as loop, _Timed(fastpath, "point_data") as data:
+            t0 = time.perf_counter()
+            branch = periodic_response(system, speeds=SPEEDS, harmonics=3, step=0.012, max_step=0.03)
+            hb_times.append(time.perf_counter() - t0)
+        parts.append((loop.total, data.total))
     speeds = np.linspace(*SPEEDS, runs)
     time_times = []
     for _ in range(repeat):
@@ -120,7 +152,36 @@ def section_a(repeat, runs):
           f"({1e3 * hb / n:.1f} ms/point, stability included)")
     print(f"    time integration to a settled orbit ({SETTLE_PERIODS} periods, C engine): {per_run:.3f} s per speed, "
           f"{n} speeds {n * per_run:.1f} s")
+    loop, data = (statistics.median(p[k] for p in parts) for k in (0, 1))
+    problem = _problem(system)
+    compiled = "compiled" if fastpath.compiled_setup(problem) is not None else "Python (numba missing?)"
+    errors_only = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fastpath.point_data(problem, branch.parameter, branch.coefficients, "none", 4)
+        errors_only.append(time.perf_counter() - t0)
+    alone = statistics.median(errors_only)
+    print(f"    per point ({compiled} path): continuation {1e3 * loop / n:.3f} ms, error estimate + Hill "
+          f"{1e3 * data / n:.3f} ms (the error estimate alone {1e3 * alone / n:.3f} ms), the rest (start solution, "
+          f"amplitude scale, fold location) {1e3 * (hb - loop - data) / n:.3f} ms; first call of the process (kernels "
+          f"loaded or compiled) {warm:.1f} s")
+    os.environ["ROTORKIT_PERIODIC_COMPILED"] = "0"
+    try:
+        t0 = time.perf_counter()
+        periodic_response(system, speeds=SPEEDS, harmonics=3, step=0.012, max_step=0.03)
+        python = time.perf_counter() - t0
+    finally:
+        del os.environ["ROTORKIT_PERIODIC_COMPILED"]
+    print(f"    the same branch on the Python path (ROTORKIT_PERIODIC_COMPILED=0, once): {python:.3f} s, "
+          f"{python / hb:.2g}x the compiled path's time")
     print(f"    ratio {n * per_run / hb:.2g}x (target >= 50x); load {load():.1f}")
+
+
+def _problem(system):
+    from rotorkit.periodic.continuation import ContinuationProblem
+    from rotorkit.periodic.hb import HarmonicBalance
+
+    return ContinuationProblem(HarmonicBalance(system, speed_parameter="R_speed", harmonics=3), "R_speed")
 
 
 def section_b(repeat, nodes):

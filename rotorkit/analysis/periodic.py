@@ -104,7 +104,12 @@ def _positive(value, name):
 
 def _linear_scale(problem, start, stop):
     """Largest amplitude of the response with the nonlinear forces as at rest, over 33 parameter values."""
+    from ..periodic.fastpath import linear_scale_compiled
+
     hb = problem.hb
+    biggest = linear_scale_compiled(problem, np.linspace(start, stop, 33))
+    if biggest is not None:
+        return biggest if biggest > 0 else 1.0
     biggest = 0.0
     z = np.zeros(hb.size)
     for lam in np.linspace(start, stop, 33):
@@ -446,9 +451,6 @@ def _grazing_point(problem, lam, Z, i):
 
 def _secant_to_grazing(problem, za, la, zb, lb, iterations=8):
     """The parameter where the penetration along the piece through ``(za, la)`` and ``(zb, lb)`` is zero."""
-    from ..periodic.hb import newton
-
-    hb = problem.hb
     ga, gb = problem.gap(za, la), problem.gap(zb, lb)
     state = problem.contact_state(zb, lb)
     size = max(abs(ga), abs(gb))
@@ -458,10 +460,8 @@ def _secant_to_grazing(problem, za, la, zb, lb, iterations=8):
         lc = lb - gb * (lb - la) / (gb - ga)
         for _ in range(30):  # past the corner this piece has no solution: halve the step back towards lb
             guess = zb + (zb - za) * ((lc - lb) / (lb - la) if lb != la else 0.0)
-            frame = problem.frame(lc)
             try:
-                zc = newton(lambda z, jac: hb.residual(z, frame, jacobian=jac), guess, tol=1e-10,
-                            scale=frame.scale, max_iterations=20)[0]
+                zc = problem.solve(guess, lc, tol=1e-10, max_iterations=20)
                 gc = problem.gap(zc, lc)
                 if abs(gc) <= 1e-6 * size or np.array_equal(problem.contact_state(zc, lc), state):
                     break  # still on this piece
@@ -499,6 +499,7 @@ def _turning_point(lam, Z, i):
 def _branch(problem, points, stability):
     """The :class:`Branch` of the raw continuation output: error estimates, stability and bifurcations."""
     from ..periodic.branch import Bifurcation, Branch
+    from ..periodic.fastpath import point_data
     from ..periodic.stability import classify_crossing, hill_multipliers, is_stable, monodromy_multipliers
 
     hb = problem.hb
@@ -511,19 +512,25 @@ def _branch(problem, points, stability):
     else:
         Z = np.array(raw).reshape(len(lam), 2 * H + 1, n)
     omega, errors, shares, multipliers = [], [], [], []
+    compiled = point_data(problem, lam, Z, stability, ERROR_GRID_FACTOR) if full is hb else None
     for value, z in zip(lam, Z):
+        amplitudes = np.hypot(z[1::2], z[2::2])
+        top = float(np.max(amplitudes)) if amplitudes.size else 0.0
+        shares.append(float(np.max(amplitudes[-1])) / top if top > 0 else 0.0)
+        if compiled is not None:  # the same quantities by the compiled kernel (rotorkit.periodic.fastpath)
+            continue
         frame = problem.frame(value)
         omega.append(frame.omega)
         r = full.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
         errors.append(float(np.max(np.abs(r))) / frame.scale)
-        amplitudes = np.hypot(z[1::2], z[2::2])
-        top = float(np.max(amplitudes)) if amplitudes.size else 0.0
-        shares.append(float(np.max(amplitudes[-1])) / top if top > 0 else 0.0)
         if stability == "hill":
             multipliers.append(hill_multipliers(full, z.ravel(), frame))
         elif stability == "monodromy":
             multipliers.append(monodromy_multipliers(full, z.ravel(), frame)[0])
-    mu = np.array(multipliers) if multipliers else None
+    if compiled is not None:
+        omega, errors, mu = compiled
+    else:
+        mu = np.array(multipliers) if multipliers else None
     stable = np.array([is_stable(m) for m in mu]) if mu is not None else None
     bifurcations = []
     tangents = np.array(points.tangents)

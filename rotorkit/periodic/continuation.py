@@ -10,6 +10,9 @@ after a hard one, and halves after a failure, down to ``min_step``. A
 corrected point farther than ``h`` from its prediction counts as a failure
 (it jumped to another part of the branch).
 
+Small speed branches run the same loop compiled (:mod:`rotorkit.periodic.fastpath` says when; the
+Python loop here is the reference and the fallback).
+
 Smooth folds need nothing more: the tangent, from the bordered system
 ``[dR/du; t_0^T] t = [0; 1]``, keeps its orientation through them.
 
@@ -84,14 +87,40 @@ class ContinuationProblem:
         plus = self.residual(z, lam + step, jacobian=False)[0]
         return (plus - self.residual(z, lam, jacobian=False)[0]) / step
 
+    def solve(self, guess, lam, *, tol, max_iterations):
+        """A solution at ``parameter = lam`` by :func:`~rotorkit.periodic.hb.newton` from ``guess`` (compiled
+        where :mod:`rotorkit.periodic.fastpath` applies). Raises ConvergenceError."""
+        from .fastpath import solve_compiled
+
+        found = solve_compiled(self, guess, lam, tol=tol, max_iterations=max_iterations)
+        if found is None:
+            frame = self.frame(lam)
+            return newton(lambda z, jac: self.hb.residual(z, frame, jacobian=jac), guess, tol=tol,
+                          scale=frame.scale, max_iterations=max_iterations)[0]
+        z, converged = found
+        if not converged:
+            raise ConvergenceError(f"harmonic balance: no convergence in {max_iterations} Newton iterations at "
+                                   f"{self.parameter}={lam:g}", residual=None)
+        return z
+
     def contact_state(self, z, lam):
         """Per contact switch: whether it is in contact (switch function > 0) at any AFT sample, shape
         (n_switches,). A change of this state is a grazing: an orbit entering or leaving a contact."""
+        from .fastpath import switches_compiled
+
+        found = switches_compiled(self, z, lam)
+        if found is not None:
+            return found[1]
         frame = self.frame(lam)
         return np.any(frame.switches(self.hb.states(z, frame)) > 0.0, axis=0)
 
     def gap(self, z, lam):
         """Largest sampled switch value (m for a rub: the deepest penetration, negative when clear)."""
+        from .fastpath import switches_compiled
+
+        found = switches_compiled(self, z, lam)
+        if found is not None:
+            return found[0]
         frame = self.frame(lam)
         values = frame.switches(self.hb.states(z, frame))
         return float(np.max(values)) if values.size else 0.0
@@ -107,6 +136,8 @@ class ContinuationOptions:
     max_points: int = 500
     tol: float = 1e-10
     max_iterations: int = 12
+    #: run the compiled kernel where it applies (:mod:`rotorkit.periodic.fastpath`); False: always the Python loop
+    compiled: bool = True
 
 
 @dataclass
@@ -144,6 +175,12 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
         The points (the start included) and the reason the branch stopped.
     """
     opts = options or ContinuationOptions()
+    if opts.compiled:
+        from .fastpath import continue_compiled
+
+        out = BranchPoints()
+        if continue_compiled(problem, z0, lam0, bounds, z_scale=z_scale, options=opts, out=out, progress=progress):
+            return out
     start, stop = (float(b) for b in bounds)
     lo, hi = min(start, stop), max(start, stop)
     l_scale = abs(stop - start)

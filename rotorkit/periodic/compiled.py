@@ -1,0 +1,811 @@
+"""numba kernels of the compiled harmonic-balance path: the continuation loop and the per-point data.
+
+They repeat, operation for operation, what the Python reference does
+(:class:`~rotorkit.periodic.hb.HarmonicBalance` residual and AFT Jacobian,
+:func:`~rotorkit.periodic.hb.newton`, :func:`~rotorkit.periodic.continuation.continue_branch`
+with its grazing-corner rule and end at a bound, the truncation-error estimate of
+:mod:`rotorkit.analysis.periodic` and :func:`~rotorkit.periodic.stability.hill_multipliers`),
+with the model's ``rhs``/``jac``/``switches`` passed as first-class numba
+functions, so that a whole branch runs in one call. The frame at a speed
+(prepared parameters, linear part, AFT instants) is rebuilt inside from the
+quadratic speed fit of :class:`~rotorkit.periodic.evaluate.Evaluator`. The
+glue, the conditions and the fallbacks are in :mod:`rotorkit.periodic.fastpath`.
+
+Integer settings ``ints``: ``n, H, N, nu, n_switches, max_iterations, max_new, count, max_points, start``;
+float settings ``fl``: ``s0, z_scale, l_scale, lo, hi, d_lam, h, min_step, max_step, tol, direction, bound``;
+``ints[10]``: whether :func:`point_data_kernel` computes Hill's multipliers.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .eigen import complex_null_vector, eigenvalues, lu_factor, lu_solve
+
+__all__ = ["continue_kernel", "point_data_kernel"]
+
+# statuses of continue_kernel
+PAUSED, BUDGET, BOUND, MIN_STEP = 0, 1, 2, 3
+
+
+@numba.njit(cache=False)
+def _frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
+    """Prepared parameters ``p``, the Jacobian at rest ``A0`` (2n, 2n) and the linear operator ``L`` at speed
+    ``lam``; returns the base frequency."""
+    n, H, nu = ints[0], ints[1], ints[3]
+    for k in range(base.shape[0]):
+        p[k] = base[k]
+    s = lam / fl[0]
+    for k in range(varying.shape[0]):
+        p[varying[k]] = coef[0, k] + s * (coef[1, k] + s * coef[2, k])
+    p[p.shape[0] - 2] = window[0]
+    p[p.shape[0] - 1] = window[1]
+    A0[:, :] = 0.0
+    jac(0.0, np.zeros(2 * n), p, A0)
+    omega = lam / nu
+    L[:, :] = 0.0
+    for i in range(n):
+        for l in range(n):
+            kk = 0.0
+            cc = 0.0
+            for j in range(n):
+                kk -= M[i, j] * A0[n + j, l]
+                cc -= M[i, j] * A0[n + j, n + l]
+            L[i, l] = kk
+            for h in range(1, H + 1):
+                a, b = 2 * h - 1, 2 * h
+                kw = h * omega
+                diagonal = kk - kw * kw * M[i, l]
+                L[a * n + i, a * n + l] = diagonal
+                L[b * n + i, b * n + l] = diagonal
+                L[a * n + i, b * n + l] = kw * cc
+                L[b * n + i, a * n + l] = -kw * cc
+    return omega
+
+
+@numba.njit(cache=False)
+def _states(z, j, omega, E, ED, n, y):
+    H2 = E.shape[1]
+    for i in range(n):
+        q = 0.0
+        v = 0.0
+        for h in range(H2):
+            q += E[j, h] * z[h * n + i]
+            v += ED[j, h] * z[h * n + i]
+        y[i] = q
+        y[n + i] = omega * v
+
+
+@numba.njit(cache=False)
+def _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, R, J):
+    """``R`` (and ``J`` if ``want``) of the harmonic balance at ``(z, lam)``; False if ``R`` is not finite."""
+    n, N = ints[0], ints[2]
+    H2 = E.shape[1]
+    size = n * H2
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    omega = _frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+    period = 2.0 * np.pi / omega
+    y = np.empty(2 * n)
+    a = np.empty(2 * n)
+    g = np.empty(n)
+    f = np.empty(n)
+    Aj = np.empty((2 * n, 2 * n))
+    Fq = np.empty((n, n))
+    Fv = np.empty((n, n))
+    Q = np.empty((n, size))
+    for r in range(size):
+        s = 0.0
+        for c in range(size):
+            s += L[r, c] * z[c]
+        R[r] = s
+    if want:
+        for r in range(size):
+            for c in range(size):
+                J[r, c] = L[r, c]
+    for j in range(N):
+        t = period * j / N
+        _states(z, j, omega, E, ED, n, y)
+        a[:] = 0.0
+        rhs(t, y, p, a)
+        for i in range(n):
+            s = a[n + i]
+            for k in range(2 * n):
+                s -= A0[n + i, k] * y[k]
+            g[i] = s
+        for i in range(n):
+            s = 0.0
+            for k in range(n):
+                s += M[i, k] * g[k]
+            f[i] = s
+        for h in range(H2):
+            w = P[h, j]
+            for i in range(n):
+                R[h * n + i] -= w * f[i]
+        if want:
+            Aj[:, :] = 0.0
+            jac(t, y, p, Aj)
+            for i in range(n):
+                for l in range(n):
+                    sq = 0.0
+                    sv = 0.0
+                    for k in range(n):
+                        sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
+                        sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
+                    Fq[i, l] = sq
+                    Fv[i, l] = sv
+            if not (np.any(Fq != 0.0) or np.any(Fv != 0.0)):
+                continue  # the linear part alone here (no contact at this instant): nothing to project
+            # row i of the instant's contribution to every block column: E[j, d] Fq[i, l] + w ED[j, d] Fv[i, l]
+            for i in range(n):
+                for d in range(H2):
+                    eq = E[j, d]
+                    ev = omega * ED[j, d]
+                    for l in range(n):
+                        Q[i, d * n + l] = eq * Fq[i, l] + ev * Fv[i, l]
+            for c in range(H2):
+                pc = P[c, j]
+                for i in range(n):
+                    row = c * n + i
+                    for col in range(size):
+                        J[row, col] -= pc * Q[i, col]
+    s = 0.0
+    for r in range(size):
+        s += R[r] * R[r]
+    return math.isfinite(s)
+
+
+@numba.njit(cache=False)
+def _scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window):
+    """Largest amplitude of an oscillating harmonic of the forces at rest (N): the residual's scale."""
+    n, N = ints[0], ints[2]
+    H2 = E.shape[1]
+    size = n * H2
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    omega = _frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+    period = 2.0 * np.pi / omega
+    y = np.zeros(2 * n)
+    a = np.empty(2 * n)
+    F = np.zeros((H2, n))
+    for j in range(N):
+        a[:] = 0.0
+        rhs(period * j / N, y, p, a)
+        for i in range(n):
+            s = 0.0
+            for k in range(n):
+                s += M[i, k] * a[n + k]
+            for h in range(H2):
+                F[h, i] += P[h, j] * s
+    biggest = 0.0
+    for h in range(1, (H2 - 1) // 2 + 1):
+        for i in range(n):
+            biggest = max(biggest, math.hypot(F[2 * h - 1, i], F[2 * h, i]))
+    return biggest
+
+
+@numba.njit(cache=False)
+def _switches_of(z, lam, state, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef, window):
+    """Per switch whether it is positive at some AFT sample (into ``state``); returns the largest value."""
+    n, N, ns = ints[0], ints[2], ints[4]
+    H2 = E.shape[1]
+    size = n * H2
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    omega = _frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+    period = 2.0 * np.pi / omega
+    y = np.empty(2 * n)
+    out = np.empty(max(ns, 1))
+    state[:] = False
+    biggest = -np.inf
+    for j in range(N):
+        _states(z, j, omega, E, ED, n, y)
+        out[:] = 0.0
+        sw(period * j / N, y, p, out)
+        for k in range(ns):
+            if out[k] > 0.0:
+                state[k] = True
+            biggest = max(biggest, out[k])
+    return biggest if ns else 0.0
+
+
+@numba.njit(cache=False)
+def _fun(u, want, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M, base, varying,
+         coef, window, F, JF):
+    """Newton's function: ``mode`` 0 the residual at ``lam_fixed``; 1 the corrector's bordered system."""
+    n = ints[0]
+    size = n * E.shape[1]
+    if mode == 0:
+        return _residual(u, lam_fixed, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, F, JF)
+    z_scale, l_scale = fl[1], fl[2]
+    z = np.empty(size)
+    for i in range(size):
+        z[i] = u[i] * z_scale
+    lam = u[size] * l_scale
+    R = np.empty(size)
+    Jz = np.empty((size, size))
+    ok = _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, R, Jz)
+    s = 0.0
+    for i in range(size + 1):
+        s += tvec[i] * (u[i] - u_pred[i])
+    for i in range(size):
+        F[i] = R[i]
+    F[size] = scale * s
+    if want:
+        for r in range(size):
+            for c in range(size):
+                JF[r, c] = Jz[r, c] * z_scale
+            JF[r, size] = column[r]
+        for c in range(size + 1):
+            JF[size, c] = scale * tvec[c]
+    return ok
+
+
+@numba.njit(cache=False)
+def _newton(u, mode, lam_fixed, u_pred, tvec, column, scale, max_iterations, rhs, jac, ints, fl, E, P, ED, M, base,
+            varying, coef, window, JF):
+    """:func:`rotorkit.periodic.hb.newton` on ``u`` (in place); returns ``(converged, iterations, norm)`` with
+    the Jacobian at the solution in ``JF``."""
+    m = u.shape[0]
+    tol = fl[9]
+    R = np.empty(m)
+    R_new = np.empty(m)
+    J_new = np.empty((m, m))
+    LU = np.empty((m, m))
+    piv = np.empty(m, dtype=np.int64)
+    dz = np.empty(m)
+    x = np.empty(m)
+    trial = np.empty(m)
+    if not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M, base,
+                varying, coef, window, R, JF):
+        return False, 0, np.inf
+    norm = np.max(np.abs(R)) / scale
+    for iteration in range(max_iterations + 1):
+        if norm <= tol:
+            return True, iteration, norm
+        if iteration == max_iterations:
+            break
+        LU[:, :] = JF
+        lu_factor(LU, piv)
+        for i in range(m):
+            x[i] = -R[i]
+        lu_solve(LU, piv, x, dz)
+        size = math.sqrt(np.sum(dz * dz))
+        step = 1.0
+        ok = False
+        while True:
+            for i in range(m):
+                trial[i] = u[i] + step * dz[i]
+            finite = _fun(trial, step == 1.0, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E,
+                          P, ED, M, base, varying, coef, window, R_new, J_new)
+            if finite:
+                for i in range(m):
+                    x[i] = -R_new[i]
+                lu_solve(LU, piv, x, x)
+                ok = math.sqrt(np.sum(x * x)) <= (1.0 - step / 4.0) * size
+            else:
+                ok = False
+            if ok or step < 1.0 / 128.0:
+                break
+            step *= 0.5
+        for i in range(m):
+            u[i] += step * dz[i]
+        if ok and step == 1.0:
+            R[:] = R_new
+            JF[:, :] = J_new
+        elif not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M,
+                      base, varying, coef, window, R, JF):
+            return False, iteration + 1, np.inf
+        norm = np.max(np.abs(R)) / scale
+    return False, max_iterations, norm
+
+
+@numba.njit(cache=False)
+def _tangent(A, reference, t):
+    """Unit ``t`` solving ``[A; reference^T] t = [0; 1]`` (``A`` (m, m + 1)); False if singular."""
+    m = A.shape[0]
+    B = np.empty((m + 1, m + 1))
+    B[:m] = A
+    B[m] = reference
+    piv = np.empty(m + 1, dtype=np.int64)
+    if not lu_factor(B, piv):
+        return False
+    b = np.zeros(m + 1)
+    b[m] = 1.0
+    lu_solve(B, piv, b, t)
+    norm = math.sqrt(np.sum(t * t))
+    if not math.isfinite(norm) or norm == 0.0:
+        return False
+    for i in range(m + 1):
+        t[i] /= norm
+    return True
+
+
+@numba.njit(cache=False)
+def _derivative(z, lam, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, out):
+    """``dR/dlambda`` by the forward difference of step ``d_lam``; False if a residual is not finite."""
+    size = z.shape[0]
+    plus = np.empty(size)
+    here = np.empty(size)
+    dummy = np.empty((1, 1))
+    d = fl[5]
+    if not _residual(z, lam + d, False, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, plus, dummy):
+        return False
+    if not _residual(z, lam, False, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, here, dummy):
+        return False
+    for i in range(size):
+        out[i] = (plus[i] - here[i]) / d
+    return True
+
+
+@numba.njit(cache=False)
+def _full_jacobian(u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, A):
+    """``[dR/dz z_s, dR/dlambda l_s]`` at the scaled ``u``; False if not finite."""
+    size = u.shape[0] - 1
+    z_scale, l_scale = fl[1], fl[2]
+    z = u[:size] * z_scale
+    lam = u[size] * l_scale
+    R = np.empty(size)
+    J = np.empty((size, size))
+    if not _residual(z, lam, True, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, R, J):
+        return False
+    column = np.empty(size)
+    if not _derivative(z, lam, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, column):
+        return False
+    for r in range(size):
+        for c in range(size):
+            A[r, c] = J[r, c] * z_scale
+        A[r, size] = column[r] * l_scale
+    return True
+
+
+@numba.njit(cache=False)
+def _correct(u_pred, tvec, u, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window):
+    """The corrector of :func:`~rotorkit.periodic.continuation.continue_branch`: ``(converged, iterations,
+    norm)``, the solution in ``u`` and the Jacobian rows of the residual in ``A1`` (m, m + 1)."""
+    size = u_pred.shape[0] - 1
+    z_scale, l_scale = fl[1], fl[2]
+    zp = u_pred[:size] * z_scale
+    lp = u_pred[size] * l_scale
+    scale = _scale(lp, rhs, jac, ints, fl, E, P, M, base, varying, coef, window)
+    column = np.empty(size)
+    if not _derivative(zp, lp, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, column):
+        return False, 0, np.inf
+    for i in range(size):
+        column[i] *= l_scale
+    u[:] = u_pred
+    JF = np.empty((size + 1, size + 1))
+    ok, iterations, norm = _newton(u, 1, 0.0, u_pred, tvec, column, scale, ints[5], rhs, jac, ints, fl, E, P, ED, M,
+                                   base, varying, coef, window, JF)
+    A1[:, :] = JF[:size]
+    return ok, iterations, norm
+
+
+@numba.njit(cache=False)
+def _distance(a, b, h, c):
+    """``|a - (b + h c)|``."""
+    s = 0.0
+    for i in range(a.shape[0]):
+        d = a[i] - (b[i] + h * c[i])
+        s += d * d
+    return math.sqrt(s)
+
+
+@numba.njit(cache=False)
+def _same(a, b):
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
+            return False
+    return True
+
+
+@numba.njit(cache=False)
+def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window):
+    """:func:`rotorkit.periodic.continuation._corner`: ``(accepted, iterations, norm)``."""
+    m = u0.shape[0]
+    size = m - 1
+    z_scale, l_scale = fl[1], fl[2]
+    ns = max(ints[4], 1)
+    u_pred = u0 + h * t0
+    s0 = np.zeros(ns, dtype=np.bool_)
+    sp = np.zeros(ns, dtype=np.bool_)
+    g0 = _switches_of(u0[:size] * z_scale, u0[size] * l_scale, s0, rhs, jac, sw, ints, fl, E, ED, M, base, varying,
+                      coef, window)
+    gp = _switches_of(u_pred[:size] * z_scale, u_pred[size] * l_scale, sp, rhs, jac, sw, ints, fl, E, ED, M, base,
+                      varying, coef, window)
+    if _same(s0, sp):
+        return False, 0, 0.0
+    A = np.empty((size, m))
+    t1 = np.empty(m)
+    if not _full_jacobian(u_pred, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, A):
+        return False, 0, 0.0
+    if not _tangent(A, t0, t1):
+        return False, 0, 0.0
+    into = gp - g0
+    ua = u0 + h * t1
+    along = _switches_of(ua[:size] * z_scale, ua[size] * l_scale, sp, rhs, jac, sw, ints, fl, E, ED, M, base,
+                         varying, coef, window) - g0
+    if along * into < 0:
+        for i in range(m):
+            t1[i] = -t1[i]
+    u_pred = u0 + h * t1
+    A1 = np.empty((size, m))
+    ok, iterations, norm = _correct(u_pred, t1, u1, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
+                                    window)
+    if not ok:
+        return False, 0, 0.0
+    if _distance(u1, u0, h, t1) > h:
+        return False, 0, 0.0
+    s1 = np.zeros(ns, dtype=np.bool_)
+    _switches_of(u1[:size] * z_scale, u1[size] * l_scale, s1, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef,
+                 window)
+    if _same(s1, s0):
+        return False, 0, 0.0
+    if not _tangent(A1, t1, t_new):
+        return False, 0, 0.0
+    return True, iterations, norm
+
+
+@numba.njit(cache=False)
+def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, u0, t0, out_u, out_t, out_norm,
+                    out_corner):
+    """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
+    resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent
+    is computed first (along ``fl[10]``); ``ints[9] == 2``: only Newton at ``fl[11]`` (tolerance ``fl[9]``) from
+    ``u0[:-1]`` (unscaled) into ``out_u[0]``, returning ``(converged, iterations)``; ``ints[9] == 3``: the
+    largest amplitude of the linear response (one Newton step from zero) over the parameter values in ``t0``,
+    into ``out_norm[0]``; ``ints[9] == 4``: the contact switches at ``(u0[:-1], fl[11])``, the largest value
+    into ``out_norm[0]`` and per switch whether it is positive at some sample into ``out_corner``. Returns ``(status, new points)``; ``fl[6]`` holds the next step."""
+    m = u0.shape[0]
+    size = m - 1
+    lo, hi = fl[3], fl[4]
+    min_step, max_step = fl[7], fl[8]
+    contact = ints[4] > 0
+    max_new, count, max_points = ints[6], ints[7], ints[8]
+    A = np.empty((size, m))
+    if ints[9] == 2:  # Newton at the fixed parameter fl[11] from u0[:size] (unscaled): (converged, iterations)
+        z = u0[:size].copy()
+        scale = _scale(fl[11], rhs, jac, ints, fl, E, P, M, base, varying, coef, window)
+        JF = np.empty((size, size))
+        ok, iterations, norm = _newton(z, 0, fl[11], z, z, z, scale, ints[5], rhs, jac, ints, fl, E, P, ED, M, base,
+                                       varying, coef, window, JF)
+        out_u[0, :size] = z
+        out_norm[0] = norm
+        return (1 if ok else 0), iterations
+    if ints[9] == 3:  # the linear response's largest amplitude over the parameter values t0 (into out_norm[0])
+        z = np.zeros(size)
+        R = np.empty(size)
+        J = np.empty((size, size))
+        piv = np.empty(size, dtype=np.int64)
+        dz = np.empty(size)
+        biggest = 0.0
+        for k in range(t0.shape[0]):
+            if not _residual(z, t0[k], True, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, R, J):
+                continue
+            if not lu_factor(J, piv):
+                continue  # singular: numpy.linalg.solve raises, and the reference skips the value
+            for i in range(size):
+                R[i] = -R[i]
+            lu_solve(J, piv, R, dz)
+            biggest = max(biggest, np.max(np.abs(dz)))
+        out_norm[0] = biggest
+        return 0, 0
+    if ints[9] == 4:  # the contact switches at (u0[:size], fl[11]) (unscaled): gap into out_norm[0], state
+        state = np.zeros(max(ints[4], 1), dtype=np.bool_)
+        out_norm[0] = _switches_of(u0[:size], fl[11], state, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef,
+                                   window)
+        for k in range(ints[4]):
+            out_corner[k] = state[k]
+        return 0, 0
+    if ints[9]:
+        reference = np.zeros(m)
+        reference[size] = fl[10]
+        if not _full_jacobian(u0, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, A):
+            return -1, 0
+        if not _tangent(A, reference, t0):
+            return -1, 0
+        if t0[size] * fl[10] < 0:
+            for i in range(m):
+                t0[i] = -t0[i]
+    h = fl[6]
+    new = 0
+    u1 = np.empty(m)
+    t1 = np.empty(m)
+    A1 = np.empty((size, m))
+    while True:
+        if count + new >= max_points:
+            fl[6] = h
+            return BUDGET, new
+        if new >= max_new:
+            fl[6] = h
+            return PAUSED, new
+        accepted = False
+        corner = False
+        iterations = 0
+        norm = 0.0
+        u_pred = u0 + h * t0
+        ok, iterations, norm = _correct(u_pred, t0, u1, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
+                                        window)
+        if ok and _distance(u1, u0, h, t0) <= h:
+            if _tangent(A1, t0, t1):
+                if np.sum(t1 * t0) > 0.7 or h <= 4.0 * min_step:
+                    accepted = True
+        if not accepted and contact:
+            accepted, iterations, norm = _corner(u0, t0, h, u1, t1, rhs, jac, sw, ints, fl, E, P, ED, M, base,
+                                                 varying, coef, window)
+            corner = accepted
+        if not accepted:
+            h *= 0.5
+            if h < min_step:
+                fl[6] = h
+                return MIN_STEP, new
+            continue
+        lam1 = u1[size] * fl[2]
+        if lam1 > hi or lam1 < lo:
+            bound = hi if lam1 > hi else lo
+            la = u0[size] * fl[2]
+            w = 0.0 if lam1 == la else (bound - la) / (lam1 - la)
+            z = np.empty(size)
+            for i in range(size):
+                za = u0[i] * fl[1]
+                z[i] = za + w * (u1[i] * fl[1] - za)
+            scale = _scale(bound, rhs, jac, ints, fl, E, P, M, base, varying, coef, window)
+            JF = np.empty((size, size))
+            ok, its, nrm = _newton(z, 0, bound, z, z, z, scale, ints[5], rhs, jac, ints, fl, E, P, ED, M, base,
+                                   varying, coef, window, JF)
+            if ok and np.all(np.isfinite(z)):
+                for i in range(size):
+                    out_u[new, i] = z[i]
+                out_u[new, size] = bound
+                out_t[new] = t1
+                out_norm[new] = nrm
+                out_corner[new] = False
+                new += 1
+            fl[6] = h
+            fl[11] = bound
+            return BOUND, new
+        for i in range(size):
+            out_u[new, i] = u1[i] * fl[1]
+        out_u[new, size] = lam1
+        out_t[new] = t1
+        out_norm[new] = norm
+        out_corner[new] = corner
+        new += 1
+        u0[:] = u1
+        t0[:] = t1
+        if iterations <= 3:
+            h = min(max_step, h * 1.5)
+        elif iterations >= 7:
+            h = h * 0.6
+
+
+@numba.njit(cache=False)
+def _hill(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, mu_re, mu_im):
+    """:func:`rotorkit.periodic.stability.hill_multipliers` into ``mu_re + i mu_im`` (2n); False if the QR
+    iteration fails."""
+    n, H, N = ints[0], ints[1], ints[2]
+    H2 = 2 * H + 1
+    size = n * H2
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    omega = _frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+    period = 2.0 * np.pi / omega
+    # Kt = K0 - proj(Fq), Ct = C0 - proj(Fv) (block diagonal K0, C0)
+    Kt = np.zeros((size, size))
+    Ct = np.zeros((size, size))
+    for h in range(H2):
+        for i in range(n):
+            for l in range(n):
+                kk = 0.0
+                cc = 0.0
+                for j in range(n):
+                    kk -= M[i, j] * A0[n + j, l]
+                    cc -= M[i, j] * A0[n + j, n + l]
+                Kt[h * n + i, h * n + l] = kk
+                Ct[h * n + i, h * n + l] = cc
+    y = np.empty(2 * n)
+    Aj = np.empty((2 * n, 2 * n))
+    Fq = np.empty((n, n))
+    Fv = np.empty((n, n))
+    Qq = np.empty((n, size))
+    Qv = np.empty((n, size))
+    for j in range(N):
+        _states(z, j, omega, E, ED, n, y)
+        Aj[:, :] = 0.0
+        jac(period * j / N, y, p, Aj)
+        for i in range(n):
+            for l in range(n):
+                sq = 0.0
+                sv = 0.0
+                for k in range(n):
+                    sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
+                    sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
+                Fq[i, l] = sq
+                Fv[i, l] = sv
+        if not (np.any(Fq != 0.0) or np.any(Fv != 0.0)):
+            continue
+        for i in range(n):
+            for d in range(H2):
+                for l in range(n):
+                    Qq[i, d * n + l] = E[j, d] * Fq[i, l]
+                    Qv[i, d * n + l] = E[j, d] * Fv[i, l]
+        for c in range(H2):
+            pc = P[c, j]
+            for i in range(n):
+                row = c * n + i
+                for col in range(size):
+                    Kt[row, col] -= pc * Qq[i, col]
+                    Ct[row, col] -= pc * Qv[i, col]
+    # wD (H2, H2): D[2k-1, 2k] = k, D[2k, 2k-1] = -k
+    wD = np.zeros((H2, H2))
+    for k in range(1, H + 1):
+        wD[2 * k - 1, 2 * k] = omega * k
+        wD[2 * k, 2 * k - 1] = -omega * k
+    wD2 = wD @ wD
+    # J = Kt + Ct (kron(wD, I)) + kron(wD^2, M); D1 = 2 kron(wD, M) + Ct
+    Jh = Kt.copy()
+    for r in range(size):
+        for d in range(H2):
+            for l in range(n):
+                s = 0.0
+                for c in range(H2):
+                    if wD[c, d] != 0.0:
+                        s += Ct[r, c * n + l] * wD[c, d]
+                Jh[r, d * n + l] += s
+    D1 = Ct.copy()
+    for c in range(H2):
+        for d in range(H2):
+            for i in range(n):
+                for l in range(n):
+                    Jh[c * n + i, d * n + l] += wD2[c, d] * M[i, l]
+                    D1[c * n + i, d * n + l] += 2.0 * wD[c, d] * M[i, l]
+    # A21 = -kron(I, Minv) J, A22 = -kron(I, Minv) D1
+    A21 = np.empty((size, size))
+    A22 = np.empty((size, size))
+    for h in range(H2):
+        for i in range(n):
+            for col in range(size):
+                s1 = 0.0
+                s2 = 0.0
+                for j in range(n):
+                    s1 += Minv[i, j] * Jh[h * n + j, col]
+                    s2 += Minv[i, j] * D1[h * n + j, col]
+                A21[h * n + i, col] = -s1
+                A22[h * n + i, col] = -s2
+    big = np.zeros((2 * size, 2 * size))
+    for i in range(size):
+        big[i, size + i] = 1.0
+        for col in range(size):
+            big[size + i, col] = A21[i, col]
+            big[size + i, size + col] = A22[i, col]
+    wr = np.empty(2 * size)
+    wi = np.empty(2 * size)
+    if not eigenvalues(big, wr, wi):
+        return False
+    # centre of each eigenvector: the null vector p of A21 + lam A22 - lam^2 I (conjugates: minus the partner's)
+    count = 2 * size
+    centre = np.empty(count)
+    done = np.zeros(count, dtype=np.bool_)
+    G = np.empty((size, size), dtype=np.complex128)
+    x = np.empty(size, dtype=np.complex128)
+    power = np.empty(H2)
+    for e in range(count):
+        if done[e]:
+            continue
+        lam_e = complex(wr[e], wi[e])
+        for r in range(size):
+            for c in range(size):
+                G[r, c] = A21[r, c] + lam_e * A22[r, c]
+            G[r, r] -= lam_e * lam_e
+        complex_null_vector(G, x)
+        for k in range(H2):
+            power[k] = 0.0
+        for i in range(n):
+            power[H] += x[i].real ** 2 + x[i].imag ** 2
+        for k in range(1, H + 1):
+            for i in range(n):
+                a = x[(2 * k - 1) * n + i]
+                b = x[2 * k * n + i]
+                minus = a - 1j * b
+                plus = a + 1j * b
+                power[H + k] += (minus.real ** 2 + minus.imag ** 2) / 4.0
+                power[H - k] += (plus.real ** 2 + plus.imag ** 2) / 4.0
+        total = 0.0
+        weighted = 0.0
+        for k in range(H2):
+            total += power[k]
+            weighted += (k - H) * power[k]
+        centre[e] = weighted / max(total, 1e-300)
+        done[e] = True
+        if wi[e] != 0.0:  # the conjugate eigenvalue: the conjugate vector, harmonics mirrored
+            for f in range(count):
+                if not done[f] and wr[f] == wr[e] and wi[f] == -wi[e]:
+                    centre[f] = -centre[e]
+                    done[f] = True
+                    break
+    order = np.argsort(np.abs(centre), kind="mergesort")
+    kept = np.empty(2 * n, dtype=np.int64)
+    nk = 0
+    for o in range(count):
+        i = order[o]
+        copy = False
+        for q in range(nk):
+            j = kept[q]
+            # (lam_i - lam_j) / (i w)
+            dre = (wi[i] - wi[j]) / omega
+            dim = -(wr[i] - wr[j]) / omega
+            rd = math.floor(dre + 0.5)
+            if abs(dim) < 1e-6 and rd != 0 and abs(dre - rd) < 1e-6:
+                copy = True
+                break
+        if copy:
+            continue
+        kept[nk] = i
+        nk += 1
+        if nk == 2 * n:
+            break
+    for q in range(2 * n):
+        if q < nk:
+            i = kept[q]
+            mag = math.exp(wr[i] * period)
+            mu_re[q] = mag * math.cos(wi[i] * period)
+            mu_im[q] = mag * math.sin(wi[i] * period)
+        else:
+            mu_re[q] = np.nan
+            mu_im[q] = np.nan
+    return nk == 2 * n
+
+
+@numba.njit(cache=False)
+def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, EG, EDG, EDDG, lams, Zs,
+                      errors, mu_re, mu_im, hill_ok):
+    """Per point: the truncation-error estimate (max |M (q'' - a)| on the grid of ``EG``'s rows over the scale)
+    and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed)."""
+    n = ints[0]
+    H2 = E.shape[1]
+    size = n * H2
+    G = EG.shape[0]
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    y = np.empty(2 * n)
+    a = np.empty(2 * n)
+    acc = np.empty(n)
+    for pt in range(lams.shape[0]):
+        lam = lams[pt]
+        z = Zs[pt]
+        omega = _frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+        scale = _scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window)
+        worst = 0.0
+        for j in range(G):
+            t = 2.0 * np.pi * j / (G * omega)
+            for i in range(n):
+                q = 0.0
+                v = 0.0
+                w2 = 0.0
+                for h in range(H2):
+                    c = z[h * n + i]
+                    q += EG[j, h] * c
+                    v += EDG[j, h] * c
+                    w2 += EDDG[j, h] * c
+                y[i] = q
+                y[n + i] = omega * v
+                acc[i] = omega * omega * w2
+            a[:] = 0.0
+            rhs(t, y, p, a)
+            for i in range(n):
+                s = 0.0
+                for k in range(n):
+                    s += (acc[k] - a[n + k]) * M[i, k]
+                worst = max(worst, abs(s))
+        errors[pt] = worst / scale
+        if ints[10]:
+            hill_ok[pt] = _hill(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, mu_re[pt],
+                                mu_im[pt])

@@ -1,0 +1,331 @@
+"""Small dense linear algebra compiled with numba for the compiled harmonic-balance path.
+
+At the sizes of the Hill matrices of small systems (a few dozen rows, one per
+branch point) the call and blocking overheads of LAPACK's general
+eigensolver dominate. Here: balancing, reduction to upper Hessenberg form by
+stabilised elementary similarity transformations and the Francis
+double-shift QR iteration (the classical EISPACK ``balanc``/``elmhes``/
+``hqr`` sequence), eigenvalues only; an LU factorisation with partial
+pivoting (as LAPACK's ``getrf``) for the Newton steps and tangents; a complex
+LU solve for null vectors. All functions are ``numba.njit`` helpers inlined
+into the kernels of :mod:`rotorkit.periodic.compiled`; this module imports
+numba at import time and is only imported by that path.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+__all__ = ["lu_factor", "lu_solve", "eigenvalues", "complex_null_vector"]
+
+
+@numba.njit(cache=False)
+def lu_factor(A, piv):
+    """In-place LU with partial pivoting (``A = P L U``, the first largest pivot as ``getrf``); False if a pivot
+    is exactly zero (the factors are still formed: a solve then gives inf/nan, as LAPACK's)."""
+    m = A.shape[0]
+    regular = True
+    for k in range(m):
+        p, big = k, abs(A[k, k])
+        for i in range(k + 1, m):
+            if abs(A[i, k]) > big:
+                p, big = i, abs(A[i, k])
+        piv[k] = p
+        if p != k:
+            for j in range(m):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+        pivot = A[k, k]
+        if pivot == 0.0:
+            regular = False
+            continue
+        for i in range(k + 1, m):
+            f = A[i, k] / pivot
+            A[i, k] = f
+            if f != 0.0:
+                for j in range(k + 1, m):
+                    A[i, j] -= f * A[k, j]
+    return regular
+
+
+@numba.njit(cache=False)
+def lu_solve(LU, piv, b, x):
+    """``x = A^-1 b`` from :func:`lu_factor`'s factors (``x`` may be ``b``)."""
+    m = LU.shape[0]
+    if x is not b:
+        for i in range(m):
+            x[i] = b[i]
+    for k in range(m):
+        p = piv[k]
+        if p != k:
+            x[k], x[p] = x[p], x[k]
+    for i in range(m):
+        s = x[i]
+        for j in range(i):
+            s -= LU[i, j] * x[j]
+        x[i] = s
+    for i in range(m - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, m):
+            s -= LU[i, j] * x[j]
+        x[i] = s / LU[i, i]
+
+
+@numba.njit(cache=False)
+def _balance(a):
+    """Scale rows and columns by powers of 2 so that their norms are alike (a similarity: eigenvalues kept)."""
+    n = a.shape[0]
+    done = False
+    while not done:
+        done = True
+        for i in range(n):
+            r = 0.0
+            c = 0.0
+            for j in range(n):
+                if j != i:
+                    c += abs(a[j, i])
+                    r += abs(a[i, j])
+            if c != 0.0 and r != 0.0:
+                g = r / 2.0
+                f = 1.0
+                s = c + r
+                while c < g:
+                    f *= 2.0
+                    c *= 4.0
+                g = r * 2.0
+                while c > g:
+                    f /= 2.0
+                    c /= 4.0
+                if (c + r) / f < 0.95 * s:
+                    done = False
+                    g = 1.0 / f
+                    for j in range(n):
+                        a[i, j] *= g
+                    for j in range(n):
+                        a[j, i] *= f
+
+
+@numba.njit(cache=False)
+def _hessenberg(a):
+    """Reduce to upper Hessenberg form by elementary similarity transformations with pivoting (in place)."""
+    n = a.shape[0]
+    for m in range(1, n - 1):
+        x = 0.0
+        i = m
+        for j in range(m, n):
+            if abs(a[j, m - 1]) > abs(x):
+                x = a[j, m - 1]
+                i = j
+        if i != m:
+            for j in range(m - 1, n):
+                a[i, j], a[m, j] = a[m, j], a[i, j]
+            for j in range(n):
+                a[j, i], a[j, m] = a[j, m], a[j, i]
+        if x != 0.0:
+            for i in range(m + 1, n):
+                y = a[i, m - 1]
+                if y != 0.0:
+                    y /= x
+                    a[i, m - 1] = y
+                    for j in range(m, n):
+                        a[i, j] -= y * a[m, j]
+                    for j in range(n):
+                        a[j, m] += y * a[j, i]
+    for i in range(2, n):
+        for j in range(i - 1):
+            a[i, j] = 0.0
+
+
+@numba.njit(cache=False)
+def _hqr(a, wr, wi):
+    """Eigenvalues of the upper Hessenberg ``a`` (destroyed) by the Francis double-shift QR iteration; False if
+    an eigenvalue needs more than 30 iterations."""
+    n = a.shape[0]
+    anorm = 0.0
+    for i in range(n):
+        for j in range(max(i - 1, 0), n):
+            anorm += abs(a[i, j])
+    nn = n - 1
+    t = 0.0
+    p = q = r = x = y = z = w = 0.0
+    while nn >= 0:
+        its = 0
+        while True:
+            l = nn
+            while l >= 1:
+                s = abs(a[l - 1, l - 1]) + abs(a[l, l])
+                if s == 0.0:
+                    s = anorm
+                if abs(a[l, l - 1]) + s == s:
+                    a[l, l - 1] = 0.0
+                    break
+                l -= 1
+            x = a[nn, nn]
+            if l == nn:
+                wr[nn] = x + t
+                wi[nn] = 0.0
+                nn -= 1
+            else:
+                y = a[nn - 1, nn - 1]
+                w = a[nn, nn - 1] * a[nn - 1, nn]
+                if l == nn - 1:
+                    p = 0.5 * (y - x)
+                    q = p * p + w
+                    z = math.sqrt(abs(q))
+                    x += t
+                    if q >= 0.0:
+                        z = p + (z if p >= 0.0 else -z)
+                        wr[nn - 1] = wr[nn] = x + z
+                        if z != 0.0:
+                            wr[nn] = x - w / z
+                        wi[nn - 1] = wi[nn] = 0.0
+                    else:
+                        wr[nn - 1] = wr[nn] = x + p
+                        wi[nn] = z
+                        wi[nn - 1] = -z
+                    nn -= 2
+                else:
+                    if its == 30:
+                        return False
+                    if its == 10 or its == 20:  # exceptional shift
+                        t += x
+                        for i in range(nn + 1):
+                            a[i, i] -= x
+                        s = abs(a[nn, nn - 1]) + abs(a[nn - 1, nn - 2])
+                        x = y = 0.75 * s
+                        w = -0.4375 * s * s
+                    its += 1
+                    m = nn - 2
+                    while m >= l:
+                        z = a[m, m]
+                        r = x - z
+                        s = y - z
+                        p = (r * s - w) / a[m + 1, m] + a[m, m + 1]
+                        q = a[m + 1, m + 1] - z - r - s
+                        r = a[m + 2, m + 1]
+                        s = abs(p) + abs(q) + abs(r)
+                        p /= s
+                        q /= s
+                        r /= s
+                        if m == l:
+                            break
+                        u = abs(a[m, m - 1]) * (abs(q) + abs(r))
+                        v = abs(p) * (abs(a[m - 1, m - 1]) + abs(z) + abs(a[m + 1, m + 1]))
+                        if u + v == v:
+                            break
+                        m -= 1
+                    for i in range(m + 2, nn + 1):
+                        a[i, i - 2] = 0.0
+                        if i != m + 2:
+                            a[i, i - 3] = 0.0
+                    for k in range(m, nn):
+                        if k != m:
+                            p = a[k, k - 1]
+                            q = a[k + 1, k - 1]
+                            r = 0.0
+                            if k != nn - 1:
+                                r = a[k + 2, k - 1]
+                            x = abs(p) + abs(q) + abs(r)
+                            if x != 0.0:
+                                p /= x
+                                q /= x
+                                r /= x
+                        s = math.sqrt(p * p + q * q + r * r)
+                        if p < 0.0:
+                            s = -s
+                        if s != 0.0:
+                            if k == m:
+                                if l != m:
+                                    a[k, k - 1] = -a[k, k - 1]
+                            else:
+                                a[k, k - 1] = -s * x
+                            p += s
+                            x = p / s
+                            y = q / s
+                            z = r / s
+                            q /= p
+                            r /= p
+                            for j in range(k, nn + 1):
+                                p = a[k, j] + q * a[k + 1, j]
+                                if k != nn - 1:
+                                    p += r * a[k + 2, j]
+                                    a[k + 2, j] -= p * z
+                                a[k + 1, j] -= p * y
+                                a[k, j] -= p * x
+                            mmin = nn if nn < k + 3 else k + 3
+                            for i in range(l, mmin + 1):
+                                p = x * a[i, k] + y * a[i, k + 1]
+                                if k != nn - 1:
+                                    p += z * a[i, k + 2]
+                                    a[i, k + 2] -= p * r
+                                a[i, k + 1] -= p * q
+                                a[i, k] -= p
+            if not l < nn - 1:
+                break
+    return True
+
+
+@numba.njit(cache=False)
+def eigenvalues(A, wr, wi):
+    """Eigenvalues ``wr + i wi`` of the real square ``A`` (destroyed); a complex pair is stored as
+    adjacent entries ``w, conj(w)``. False if the QR iteration does not converge."""
+    _balance(A)
+    _hessenberg(A)
+    return _hqr(A, wr, wi)
+
+
+@numba.njit(cache=False)
+def _size(c):
+    """``|re| + |im|``: LAPACK's measure for complex pivots (no square root)."""
+    return abs(c.real) + abs(c.imag)
+
+
+@numba.njit(cache=False)
+def complex_null_vector(G, x):
+    """A vector ``x`` with ``G x ~ 0`` for a nearly singular complex ``G`` (destroyed): one inverse-iteration
+    step, ``G x = e`` (``e`` all ones) by LU with partial pivoting (pivots by ``|re| + |im|`` as LAPACK's), a
+    zero pivot replaced by a tiny one."""
+    m = G.shape[0]
+    big = 0.0
+    for i in range(m):
+        for j in range(m):
+            big = max(big, _size(G[i, j]))
+    floor = max(big * 1e-17, 1e-300)
+    piv = np.empty(m, dtype=np.int64)
+    for k in range(m):
+        p, size = k, _size(G[k, k])
+        for i in range(k + 1, m):
+            s = _size(G[i, k])
+            if s > size:
+                p, size = i, s
+        piv[k] = p
+        if p != k:
+            for j in range(m):
+                G[k, j], G[p, j] = G[p, j], G[k, j]
+        if _size(G[k, k]) < floor:
+            G[k, k] = floor
+        inverse = 1.0 / G[k, k]
+        for i in range(k + 1, m):
+            f = G[i, k] * inverse
+            G[i, k] = f
+            if f != 0.0:
+                for j in range(k + 1, m):
+                    G[i, j] -= f * G[k, j]
+    for i in range(m):
+        x[i] = 1.0
+    for k in range(m):
+        p = piv[k]
+        if p != k:
+            x[k], x[p] = x[p], x[k]
+    for i in range(m):
+        s = x[i]
+        for j in range(i):
+            s -= G[i, j] * x[j]
+        x[i] = s
+    for i in range(m - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, m):
+            s -= G[i, j] * x[j]
+        x[i] = s / G[i, i]

@@ -1,0 +1,376 @@
+"""The compiled path of small speed branches: when it applies, its set-up, and the fallback to the Python path.
+
+A speed branch of a small system costs the Python path a few milliseconds
+per point, nearly all of it call overhead around arrays of a few dozen
+entries. The numba kernels of :mod:`rotorkit.periodic.compiled` run the same
+algorithm (the continuation loop with its corrector, tangents, step control,
+grazing corners and the end at a bound; then per point the error estimate
+and Hill's multipliers) in one call each.
+
+When it is used (automatically; all must hold)
+    * numba is installed and ``$ROTORKIT_PERIODIC_COMPILED`` is not ``0``
+      (:attr:`~rotorkit.periodic.continuation.ContinuationOptions.compiled`
+      is not False);
+    * the system is compiled with the ``c`` or ``numba`` back end (the
+      model's generated ``rhs``/``jac``/``switches`` are jitted by numba
+      once per model structure, cached on disk);
+    * the plain (not condensed) harmonic balance with ``n <= MAX_COORDINATES``
+      coordinates and ``n (2H + 1) <= MAX_UNKNOWNS`` unknowns;
+    * the continuation parameter is the spin speed that sets the base
+      frequency, and the prepared parameters are quadratic in it (the
+      :class:`~rotorkit.periodic.evaluate.Evaluator`'s speed fit succeeds; a
+      tabulated speed-dependent coefficient makes it fail) and the mass
+      matrix does not depend on it;
+    * for the per-point data: stability ``"hill"`` or ``"none"``.
+
+Otherwise, or if the kernel cannot start (a singular start tangent), the
+Python path runs. The kernels are compiled once (numba's disk cache in
+rotorkit's cache folder, :func:`rotorkit.codegen.cache.jit_shared`): tens of
+seconds cold, a fraction of a second afterwards.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import os
+
+import numpy as np
+
+__all__ = ["MAX_COORDINATES", "MAX_UNKNOWNS", "compiled_setup", "continue_compiled", "solve_compiled",
+           "linear_scale_compiled", "switches_compiled", "point_data"]
+
+#: the compiled path applies to systems with at most this many coordinates ...
+MAX_COORDINATES = 10
+#: ... and at most this many harmonic-balance unknowns n (2H + 1) (Hill's matrix is twice that)
+MAX_UNKNOWNS = 48
+
+
+def _numba_available():
+    import importlib.util
+
+    return importlib.util.find_spec("numba") is not None
+
+
+class CompiledSetup:
+    """Arrays and functions the kernels take for one harmonic balance (see :func:`compiled_setup`)."""
+
+    def __init__(self, hb, functions, fit, window, mass):
+        self.hb = hb
+        self.rhs, self.jac, self.switches = functions
+        constant, varying, coefficients, s0 = fit
+        self.base = np.ascontiguousarray(constant, dtype=float)
+        self.varying = np.ascontiguousarray(varying, dtype=np.int64)
+        self.coef = np.ascontiguousarray(coefficients, dtype=float).reshape(3, -1)
+        self.s0 = float(s0)
+        self.window = np.ascontiguousarray(window, dtype=float)
+        self.mass = np.ascontiguousarray(mass, dtype=float)
+        self.E = np.ascontiguousarray(hb.E)
+        self.P = np.ascontiguousarray(hb.P)
+        self.ED = np.ascontiguousarray(hb.ED)
+
+    def ints(self, **values):
+        hb = self.hb
+        ints = np.zeros(11, dtype=np.int64)
+        ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, hb.system.n_switches
+        for name, value in values.items():
+            ints[_INTS[name]] = value
+        return ints
+
+
+_INTS = {"max_iterations": 5, "max_new": 6, "count": 7, "max_points": 8, "start": 9, "hill": 10}
+
+
+def compiled_setup(problem):
+    """The :class:`CompiledSetup` of ``problem`` if the compiled path applies (module notes), else None."""
+    found = getattr(problem, "_compiled_setup", False)
+    if found is not False:
+        return found
+    setup = None
+    try:
+        setup = _new_setup(problem)
+    finally:
+        problem._compiled_setup = setup
+    return setup
+
+
+def _new_setup(problem):
+    from .hb import HarmonicBalance
+
+    hb = problem.hb
+    if os.environ.get("ROTORKIT_PERIODIC_COMPILED", "1") == "0" or not _numba_available():
+        return None
+    if type(hb) is not HarmonicBalance or problem.parameter != hb.speed_parameter:
+        return None
+    if hb.n > MAX_COORDINATES or hb.size > MAX_UNKNOWNS:
+        return None
+    evaluator = hb.evaluator
+    if not (evaluator.fast or evaluator.jitted):
+        return None
+    module = evaluator._module
+    if not all(hasattr(module, name) for name in ("rhs", "jac", "prepare", "PARAMETER_NAMES")):
+        return None
+    names = list(module.PARAMETER_NAMES)
+    if hb.speed_parameter not in names:
+        return None
+    parameters = hb.system.parameters
+    speed = float(parameters[hb.speed_parameter])
+    if not (math.isfinite(speed) and speed > 0.0):
+        return None
+    p = np.array([parameters[name] for name in names], dtype=float)
+    fit = evaluator._fit(p, names.index(hb.speed_parameter))
+    if fit is False:
+        return None
+    merged = dict(parameters)
+    mass = hb.mass_matrix(merged)
+    merged[hb.speed_parameter] = 1.37 * speed
+    if not np.array_equal(mass, hb.mass_matrix(merged)):
+        return None
+    from ..system import numba_function
+
+    switches = numba_function(module, "switches") if hasattr(module, "switches") else _no_switches()
+    functions = (numba_function(module, "rhs"), numba_function(module, "jac"), switches)
+    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
+
+
+def _addressed(functions):
+    """The model's jitted functions as objects holding their compiled address (numba's wrapper address
+    protocol): passing a dispatcher makes numba look the address up at every kernel call (about 0.1 ms each);
+    the dispatchers themselves where that fails."""
+    try:
+        from numba import types
+        from numba.experimental.function_type import _get_wrapper_address
+
+        vec, mat = types.float64[::1], types.float64[:, ::1]
+        signatures = (types.void(types.float64, vec, vec, vec), types.void(types.float64, vec, vec, mat),
+                      types.void(types.float64, vec, vec, vec))
+
+        class Addressed(types.WrapperAddressProtocol):
+            def __init__(self, dispatcher, signature):
+                self.dispatcher = dispatcher  # keeps the compiled code alive
+                self._signature = signature
+                self._address = _get_wrapper_address(dispatcher, signature)
+
+            def __wrapper_address__(self):
+                return self._address
+
+            def signature(self):
+                return self._signature
+
+        return tuple(Addressed(f, s) for f, s in zip(functions, signatures))
+    except Exception:  # noqa: BLE001 - a numba without this protocol: the dispatchers work, a little slower
+        return functions
+
+
+@functools.lru_cache(maxsize=None)
+def _no_switches():
+    import numba
+
+    @numba.njit(cache=False)
+    def switches(t, y, p, out):
+        pass
+
+    return switches
+
+
+@functools.lru_cache(maxsize=None)
+def _cache_name(kind):
+    import hashlib
+    from pathlib import Path
+
+    from . import compiled, eigen
+
+    digest = hashlib.sha256()
+    for path in (compiled.__file__, eigen.__file__):
+        digest.update(Path(path).read_bytes())
+    return f"periodic_{kind}-{digest.hexdigest()[:12]}"
+
+
+def _signature(kind):
+    from numba import types
+
+    vec, mat = types.float64[::1], types.float64[:, ::1]
+    ivec = types.int64[::1]
+    core = types.FunctionType(types.void(types.float64, vec, vec, vec))
+    jac = types.FunctionType(types.void(types.float64, vec, vec, mat))
+    common = (ivec, vec, mat, mat, mat, mat)  # ints, fl, E, P, ED, M
+    fit = (vec, ivec, mat, vec)  # base, varying, coef, window
+    if kind == "continue":
+        return types.Tuple((types.int64, types.int64))(core, jac, core, *common, *fit, vec, vec, mat, mat, vec,
+                                                       types.boolean[::1])
+    return types.void(core, jac, *common, mat, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
+
+
+@functools.lru_cache(maxsize=None)
+def _kernel(kind):
+    """The kernel ``kind`` ("continue" or "points"), compiled for its signature (numba's verified disk cache)."""
+    from ..codegen.cache import jit_shared, shared_lock
+    from . import compiled
+
+    function = compiled.continue_kernel if kind == "continue" else compiled.point_data_kernel
+    name = _cache_name(kind)
+    with shared_lock(name):
+        return jit_shared(function.py_func, name, _signature(kind), error_model="numpy")
+
+
+def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progress=None):
+    """:func:`~rotorkit.periodic.continuation.continue_branch` by the compiled kernel into ``out`` (an empty
+    :class:`~rotorkit.periodic.continuation.BranchPoints`): True, or False where it does not apply (then the
+    caller runs the Python loop)."""
+    from .compiled import BOUND, BUDGET, MIN_STEP
+
+    setup = compiled_setup(problem)
+    if setup is None:
+        return False
+    opts = options
+    start, stop = (float(b) for b in bounds)
+    lo, hi = min(start, stop), max(start, stop)
+    l_scale = abs(stop - start)
+    size = len(z0)
+    scales = np.concatenate([np.full(size, z_scale), [l_scale]])
+    d_lam = 1e-7 * max(l_scale, abs(lam0))
+    direction = 1.0 if stop >= start else -1.0
+    fl = np.array([setup.s0, z_scale, l_scale, lo, hi, d_lam, opts.step, opts.min_step, opts.max_step, opts.tol,
+                   direction, 0.0])
+    u0 = np.append(np.asarray(z0, dtype=float) / z_scale, lam0 / l_scale)
+    t0 = np.zeros(size + 1)
+    kernel = _kernel("continue")
+    chunk = 16 if progress is not None else opts.max_points
+    first = True
+    while True:
+        ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk, count=max(len(out.parameter), 1),
+                          max_points=opts.max_points, start=first)
+        rows = chunk + 1
+        out_u, out_t = np.zeros((rows, size + 1)), np.zeros((rows, size + 1))
+        out_norm, out_corner = np.zeros(rows), np.zeros(rows, dtype=np.bool_)
+        status, new = kernel(setup.rhs, setup.jac, setup.switches, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
+                             setup.base, setup.varying, setup.coef, setup.window, u0, t0, out_u, out_t, out_norm,
+                             out_corner)
+        if first:
+            if status < 0:
+                return False  # a singular start tangent: the Python path raises its error
+            out.parameter.append(float(lam0))
+            out.coefficients.append(np.array(z0, dtype=float))
+            out.tangents.append(t0 * scales)
+            out.residuals.append(0.0)
+            first = False
+        for k in range(new):
+            out.parameter.append(float(out_u[k, size]))
+            out.coefficients.append(out_u[k, :size].copy())
+            out.tangents.append(out_t[k] * scales)
+            out.residuals.append(float(out_norm[k]))
+            if out_corner[k]:
+                out.corners.append(len(out.parameter) - 1)
+            if progress is not None and not (status == BOUND and k == new - 1):
+                progress(len(out.parameter), float(out_u[k, size]))
+        if status == BUDGET:
+            out.reason = f"point budget of {opts.max_points} points reached"
+            return True
+        if status == BOUND:
+            out.reason = f"parameter bound {problem.parameter}={fl[11]:g} reached"
+            return True
+        if status == MIN_STEP:
+            out.reason = (f"no convergence at the minimum step {opts.min_step:g} at {problem.parameter}="
+                          f"{out.parameter[-1]:.6g} (a branch point or a non-smooth point the corner rule does not "
+                          "pass)")
+            return True
+
+
+def solve_compiled(problem, guess, lam, *, tol, max_iterations):
+    """:func:`~rotorkit.periodic.hb.newton` at ``parameter = lam`` from ``guess`` by the compiled kernel:
+    ``(z, converged)``, or None where the compiled path does not apply."""
+    setup = compiled_setup(problem)
+    if setup is None:
+        return None
+    size = setup.hb.size
+    fl = np.zeros(12)
+    fl[0], fl[9], fl[11] = setup.s0, tol, lam
+    (converged, _), z, _, _ = _call(setup, 2, np.append(np.asarray(guess, dtype=float), 0.0), np.zeros(size + 1),
+                                    fl, max_iterations=max_iterations)
+    return z.copy(), bool(converged)
+
+
+def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
+    size = setup.hb.size
+    out_u, out_norm = np.zeros((1, size + 1)), np.zeros(1)
+    out_corner = np.zeros(max(corner_size, 1), dtype=np.bool_)
+    result = _kernel("continue")(setup.rhs, setup.jac, setup.switches, setup.ints(max_iterations=max_iterations,
+                                                                                   start=mode), fl, setup.E,
+                                 setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window,
+                                 u0, t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
+    return result, out_u[0, :size], out_norm[0], out_corner
+
+
+def linear_scale_compiled(problem, values):
+    """The largest amplitude of the response with the nonlinear forces as at rest over the parameter ``values``
+    (:func:`rotorkit.analysis.periodic`'s amplitude scale) by the compiled kernel, or None."""
+    setup = compiled_setup(problem)
+    if setup is None:
+        return None
+    fl = np.zeros(12)
+    fl[0] = setup.s0
+    size = setup.hb.size
+    biggest = _call(setup, 3, np.zeros(size + 1), np.ascontiguousarray(values, dtype=float), fl)[2]
+    return float(biggest)
+
+
+def switches_compiled(problem, z, lam):
+    """``(gap, contact state)`` of :meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap` and
+    ``contact_state`` by the compiled kernel, or None."""
+    setup = compiled_setup(problem)
+    if setup is None:
+        return None
+    z = np.asarray(z, dtype=float)
+    key = (float(lam), z.tobytes())
+    last = getattr(setup, "_last_switches", None)
+    if last is not None and last[0] == key:  # gap and contact_state are asked at the same point in turn
+        return last[1]
+    fl = np.zeros(12)
+    fl[0], fl[11] = setup.s0, lam
+    ns = setup.hb.system.n_switches
+    _, _, gap, state = _call(setup, 4, np.append(z, 0.0), np.zeros(setup.hb.size + 1), fl, corner_size=ns)
+    found = float(gap), state[:ns].copy()
+    setup._last_switches = (key, found)
+    return found
+
+
+def point_data(problem, parameter, coefficients, stability, grid_factor):
+    """Per point ``(omega, residual_error, multipliers or None)`` by the compiled kernel, or None where it does
+    not apply (module notes) or a Hill QR iteration failed at every point.
+
+    ``coefficients`` (n_points, 2H + 1, n); the error grid has ``grid_factor`` times the AFT samples. A point
+    whose QR iteration fails gets its multipliers from :func:`~rotorkit.periodic.stability.hill_multipliers`.
+    """
+    if stability not in ("hill", "none"):
+        return None
+    setup = compiled_setup(problem)
+    if setup is None:
+        return None
+    from .hb import fourier_basis
+
+    hb = setup.hb
+    lam = np.ascontiguousarray(parameter, dtype=float)
+    Z = np.ascontiguousarray(np.reshape(coefficients, (len(lam), hb.size)), dtype=float)
+    EG, _, D = fourier_basis(hb.harmonics, grid_factor * hb.samples)
+    EDG = EG @ D
+    EDDG = EDG @ D
+    hill = stability == "hill"
+    count = len(lam)
+    errors = np.zeros(count)
+    mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
+    ok = np.ones(count, dtype=np.bool_)
+    fl = np.array([setup.s0])
+    _kernel("points")(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass,
+                      np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying, setup.coef,
+                      setup.window, np.ascontiguousarray(EG), np.ascontiguousarray(EDG), np.ascontiguousarray(EDDG),
+                      lam, Z, errors, mu_re, mu_im, ok)
+    omega = lam / hb.subharmonic
+    if not hill:
+        return omega, errors, None
+    multipliers = mu_re + 1j * mu_im
+    if not ok.all():
+        from .stability import hill_multipliers
+
+        for i in np.flatnonzero(~ok):
+            multipliers[i] = hill_multipliers(hb, Z[i], problem.frame(lam[i]))
+    return omega, errors, multipliers

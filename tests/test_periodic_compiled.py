@@ -1,0 +1,177 @@
+"""The compiled path of small speed branches (rotorkit.periodic.fastpath) against the Python path and closed forms.
+
+The Jeffcott rotor in a concentric rub stator (isotropic, no gravity): with
+``z = x + i y`` a synchronous circle ``|Z| = r`` solves
+``|k - m W^2 + i c W + k_r max(0, 1 - delta/r)| r = m e W^2`` (tests/test_periodic.py
+derives it). Both paths must follow the same branch through its smooth fold
+and its grazing corner, on that circle, with the same stability.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rotorkit import Disk, ElasticSupport, Model, Rotor, RubStator
+from rotorkit.analysis.periodic import periodic_response
+from rotorkit.periodic import fastpath
+from rotorkit.periodic.continuation import ContinuationProblem
+from rotorkit.periodic.hb import HarmonicBalance
+
+pytest.importorskip("numba")
+
+M, K, C, E = 2.0, 2.0e4, 4.0, 2.0e-5  # kg, N/m, N s/m, m
+DELTA, KR = 1.0e-4, 2.0e4
+
+
+def rub_model():
+    return Model([Rotor(name="R", stations=(1,), speed=60.0),
+                  Disk(station=1, mass=M, radius=0.1, eccentricity=E, torsion=False),
+                  ElasticSupport(station=1, stiffness=K, damping=C),
+                  RubStator(station=1, clearance=DELTA, contact_stiffness=KR, friction_coefficient=0.0)],
+                 name="jeffrub")
+
+
+def circle_residual(W, r):
+    s = KR * max(0.0, 1.0 - DELTA / r)
+    return (abs(K - M * W**2 + 1j * C * W + s) * r - M * E * W**2) / (M * E * W**2)
+
+
+@pytest.fixture(scope="module")
+def rub_system():
+    return rub_model().compile(backend="c")
+
+
+@pytest.fixture(scope="module")
+def both(rub_system):
+    """The branch by the compiled path and by the Python path (the compiled path switched off)."""
+    compiled = periodic_response(rub_system, speeds=(60.0, 200.0), harmonics=3)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
+        reference = periodic_response(rub_system, speeds=(60.0, 200.0), harmonics=3)
+    return compiled, reference
+
+
+def test_the_compiled_path_is_chosen_where_it_applies(rub_system, monkeypatch):
+    hb = HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3)
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is not None
+    # not for another parameter, a condensed or too large problem, the python back end, or when switched off
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "rub1_clearance")) is None
+    big = HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=fastpath.MAX_UNKNOWNS)
+    assert fastpath.compiled_setup(ContinuationProblem(big, "R_speed")) is None
+    python = HarmonicBalance(rub_model().compile(backend="python"), speed_parameter="R_speed", harmonics=3)
+    assert fastpath.compiled_setup(ContinuationProblem(python, "R_speed")) is None
+    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is None
+    monkeypatch.delenv("ROTORKIT_PERIODIC_COMPILED")
+    monkeypatch.setattr(fastpath, "_numba_available", lambda: False)  # numba missing: the Python path
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is None
+
+
+def test_compiled_branch_equals_the_python_branch(both):
+    compiled, reference = both
+    assert compiled.reason == reference.reason
+    assert len(compiled) == len(reference) > 100
+    assert np.allclose(compiled.parameter, reference.parameter, rtol=1e-8, atol=0)
+    amplitude = float(np.max(np.abs(reference.coefficients)))
+    assert np.max(np.abs(compiled.coefficients - reference.coefficients)) < 1e-8 * amplitude
+    assert [b.kind for b in compiled.bifurcations] == [b.kind for b in reference.bifurcations] == ["fold",
+                                                                                                  "grazing fold"]
+    for a, b in zip(compiled.bifurcations, reference.bifurcations):
+        assert a.index == b.index and abs(a.parameter - b.parameter) < 1e-8 * b.parameter
+    assert np.array_equal(compiled.stable, reference.stable)
+    assert (~compiled.stable).any() and compiled.stable.any()
+    for mu, expected in zip(compiled.multipliers, reference.multipliers):
+        assert np.max(np.min(np.abs(mu[:, None] - expected[None, :]), axis=1)) < 1e-8
+    assert np.allclose(compiled.omega, reference.omega, rtol=1e-14)
+    # the error estimate is a residual near rounding here: the same size, not the same digits
+    assert np.max(compiled.residual_error) < 1e-8 and np.max(reference.residual_error) < 1e-8
+
+
+def test_compiled_branch_lies_on_the_closed_form_circle(both):
+    compiled = both[0]
+    r = compiled.harmonic_amplitude("x1", 1)
+    assert np.max(np.abs([circle_residual(W, ri) for W, ri in zip(compiled.parameter, r)])) < 1e-8
+    assert np.any(r > 4 * DELTA) and np.any((r > DELTA) & (r < 1.2 * DELTA))  # through the contact and the corner
+
+
+def test_compiled_progress_and_point_budget(rub_system):
+    seen = []
+    b = periodic_response(rub_system, speeds=(60.0, 200.0), harmonics=3, max_points=40,
+                          progress=lambda count, value: seen.append((count, value)))
+    assert len(b) == 40 and b.reason == "point budget of 40 points reached"
+    assert [c for c, _ in seen] == list(range(2, 41))
+    assert np.allclose([v for _, v in seen], b.parameter[1:], rtol=0, atol=0)
+
+
+def test_small_eigensolver_against_lapack():
+    import numba
+
+    from rotorkit.periodic.eigen import eigenvalues
+
+    @numba.njit
+    def run(A):
+        wr, wi = np.empty(A.shape[0]), np.empty(A.shape[0])
+        ok = eigenvalues(A.copy(), wr, wi)
+        return ok, wr, wi
+
+    rng = np.random.default_rng(3)
+    for m in (1, 2, 5, 28, 41):
+        A = rng.standard_normal((m, m))
+        A[: m // 2] *= 1e4  # badly scaled rows, as Hill's matrix has
+        ok, wr, wi = run(A)
+        expected = np.linalg.eigvals(A)
+        got = wr + 1j * wi
+        assert ok
+        assert np.max([np.min(np.abs(got - e)) for e in expected]) < 1e-10 * np.max(np.abs(expected))
+        assert np.max([np.min(np.abs(expected - g)) for g in got]) < 1e-10 * np.max(np.abs(expected))
+
+
+def anisotropic_rub_system(eccentricity, damping, contact_stiffness):
+    """Anisotropic bearing, gravity and a rub stator: orbits with many harmonics (contact over part of a period)."""
+    from rotorkit import Maneuver
+    from rotorkit.elements import LinearBearing
+
+    return Model([Rotor(name="R", stations=(1,), speed=600.0),
+                  Disk(station=1, mass=M, radius=0.1, eccentricity=eccentricity, torsion=False),
+                  LinearBearing(station=1, kxx=1.2e6, kyy=1.0e6, cxx=damping, cyy=damping),
+                  RubStator(station=1, clearance=1e-4, contact_stiffness=contact_stiffness, friction_coefficient=0.1),
+                  Maneuver.steady(gravity=9.81)], name="anisorub").compile(backend="c")
+
+
+def test_compiled_partial_rub_branch_and_error_estimates_equal_the_python_path(monkeypatch):
+    system = anisotropic_rub_system(2e-5, 150.0, 1e6)
+    compiled = periodic_response(system, speeds=(600.0, 700.0), harmonics=6)
+    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
+    reference = periodic_response(system, speeds=(600.0, 700.0), harmonics=6)
+    assert len(compiled) == len(reference) and compiled.reason == reference.reason
+    amplitude = float(np.max(np.abs(reference.coefficients)))
+    assert np.max(np.abs(compiled.coefficients - reference.coefficients)) < 1e-8 * amplitude
+    assert np.max(compiled.harmonic_share) > 1e-4  # many harmonics: the error estimates are not rounding
+    # equal where the truncation error is real; near rounding (no contact yet) both are tiny
+    assert np.allclose(compiled.residual_error, reference.residual_error, rtol=1e-6, atol=1e-9)
+    assert np.max(reference.residual_error) > 1e-2
+    assert np.array_equal(compiled.stable, reference.stable)
+    for mu, expected in zip(compiled.multipliers, reference.multipliers):
+        assert np.max(np.min(np.abs(mu[:, None] - expected[None, :]), axis=1)) < 1e-8
+
+
+def test_compiled_hill_keeps_one_exponent_per_family_for_real_negative_multipliers():
+    """Full annular rub offset by gravity past the critical speed: two real negative multipliers (exponents
+    a +- i w/2, copies of each other); the compiled Hill selection must match the Python one."""
+    from rotorkit.periodic.stability import hill_multipliers
+
+    system = anisotropic_rub_system(3e-5, 30.0, 1e7).with_parameters(rub1_friction_coefficient=0.0)
+    rough = periodic_response(system, speeds=(600.0, 740.0), harmonics=4, stability="none")
+    start = np.vstack([rough.coefficients[-1], np.zeros((12, 2))])
+    from rotorkit.analysis.periodic import periodic_solution
+
+    b = periodic_solution(system, harmonics=10, start=start, R_speed=740.0, stability="hill")
+    hb = HarmonicBalance(system.with_parameters(R_speed=740.0), speed_parameter="R_speed", harmonics=10)
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is not None
+    expected = hill_multipliers(hb, b.coefficients[0].ravel(), hb.frame())
+    negative = expected[(np.abs(expected.imag) < 1e-9) & (expected.real < 0)]
+    assert len(negative) == 2
+    mu = b.multipliers[0]
+    assert np.max(np.min(np.abs(mu[:, None] - expected[None, :]), axis=1)) < 1e-8
+    assert np.max(np.min(np.abs(expected[:, None] - mu[None, :]), axis=1)) < 1e-8
