@@ -37,6 +37,14 @@ def circle_residual(W, r):
     return (abs(K - M * W**2 + 1j * C * W + s) * r - M * E * W**2) / (M * E * W**2)
 
 
+@pytest.fixture(scope="module", autouse=True)
+def compile_on_first_use():
+    """The kernels compiled on first use here (the default uses them only once compiled: compile_kernels)."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("ROTORKIT_PERIODIC_COMPILED", "1")
+        yield
+
+
 @pytest.fixture(scope="module")
 def rub_system():
     return rub_model().compile(backend="c")
@@ -175,3 +183,19 @@ def test_compiled_hill_keeps_one_exponent_per_family_for_real_negative_multiplie
     mu = b.multipliers[0]
     assert np.max(np.min(np.abs(mu[:, None] - expected[None, :]), axis=1)) < 1e-8
     assert np.max(np.min(np.abs(expected[:, None] - mu[None, :]), axis=1)) < 1e-8
+
+
+def test_by_default_only_compiled_kernels_are_used(rub_system, both, monkeypatch):
+    """Without $ROTORKIT_PERIODIC_COMPILED a first branch does not wait for the kernels' compilation: the compiled
+    path is taken only once they are in the disk cache (compile_kernels), found there by a fresh process."""
+    monkeypatch.delenv("ROTORKIT_PERIODIC_COMPILED")
+    hb = HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3)
+    monkeypatch.setattr(fastpath, "kernels_compiled", lambda: False)
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is None
+    monkeypatch.undo()
+    monkeypatch.delenv("ROTORKIT_PERIODIC_COMPILED")
+    fastpath._kernel.cache_clear()  # as a fresh process: only the disk cache (filled by the branches above)
+    assert fastpath.kernels_compiled()
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is not None
+    fastpath.compile_kernels(verbose=False)  # loads them from the disk cache
+    assert fastpath._kernel.cache_info().currsize == len(fastpath.KINDS)

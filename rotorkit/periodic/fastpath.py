@@ -8,9 +8,13 @@ grazing corners and the end at a bound; then per point the error estimate
 and Hill's multipliers) in one call each.
 
 When it is used (automatically; all must hold)
-    * numba is installed and ``$ROTORKIT_PERIODIC_COMPILED`` is not ``0``
+    * numba is installed, the kernels are compiled (:func:`compile_kernels`
+      once per cache folder: a minute or two; afterwards they load in about
+      a second) or ``$ROTORKIT_PERIODIC_COMPILED`` is ``1`` (compile them on
+      first use), and ``$ROTORKIT_PERIODIC_COMPILED`` is not ``0``
       (:attr:`~rotorkit.periodic.continuation.ContinuationOptions.compiled`
-      is not False);
+      is not False). A first branch never waits for the compilation unless
+      asked to: the Python path answers it in seconds;
     * the system is compiled with the ``c`` or ``numba`` back end (the
       model's generated ``rhs``/``jac``/``switches`` are jitted by numba
       once per model structure, cached on disk);
@@ -25,8 +29,9 @@ When it is used (automatically; all must hold)
 
 Otherwise, or if the kernel cannot start (a singular start tangent), the
 Python path runs. The kernels are compiled once (numba's disk cache in
-rotorkit's cache folder, :func:`rotorkit.codegen.cache.jit_shared`): tens of
-seconds cold, a fraction of a second afterwards.
+rotorkit's cache folder, :func:`rotorkit.codegen.cache.jit_shared`): 1.5 min
+cold at low load on this project's 2-core machine, a fraction of a second to
+load afterwards.
 """
 
 from __future__ import annotations
@@ -37,7 +42,7 @@ import os
 
 import numpy as np
 
-__all__ = ["MAX_COORDINATES", "MAX_UNKNOWNS", "compiled_setup", "continue_compiled", "solve_compiled",
+__all__ = ["MAX_COORDINATES", "MAX_UNKNOWNS", "compile_kernels", "kernels_compiled", "compiled_setup", "continue_compiled", "solve_compiled",
            "linear_scale_compiled", "switches_compiled", "point_data"]
 
 #: the compiled path applies to systems with at most this many coordinates ...
@@ -98,7 +103,8 @@ def _new_setup(problem):
     from .hb import HarmonicBalance
 
     hb = problem.hb
-    if os.environ.get("ROTORKIT_PERIODIC_COMPILED", "1") == "0" or not _numba_available():
+    mode = os.environ.get("ROTORKIT_PERIODIC_COMPILED", "auto")
+    if mode == "0" or not _numba_available() or (mode != "1" and not kernels_compiled()):
         return None
     if type(hb) is not HarmonicBalance or problem.parameter != hb.speed_parameter:
         return None
@@ -199,6 +205,51 @@ def _signature(kind):
         return types.Tuple((types.int64, types.int64))(core, jac, core, *common, *fit, vec, vec, mat, mat, vec,
                                                        types.boolean[::1])
     return types.void(core, jac, *common, mat, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
+
+
+KINDS = ("continue", "points")
+
+
+def kernels_compiled():
+    """Whether both kernels are in the disk cache (or loaded in this process): the compiled path is then used
+    automatically where it applies."""
+    if _kernel.cache_info().currsize == len(KINDS):
+        return True
+    from pathlib import Path
+
+    from ..codegen.cache import shared_dir
+
+    try:
+        return all(any(Path(shared_dir(_cache_name(kind))).rglob("*.nbc")) for kind in KINDS)
+    except OSError:
+        return False
+
+
+def compile_kernels(verbose=True):
+    """Compile the kernels of the compiled path into rotorkit's cache folder (once per cache folder).
+
+    A minute or two; afterwards every process loads them in about a second
+    and small speed branches take the compiled path automatically (module
+    notes). ``python -c "import rotorkit.periodic.fastpath as f; f.compile_kernels()"``.
+
+    Raises
+    ------
+    ImportError
+        numba is not installed (the Python path needs nothing).
+    """
+    import time
+
+    if not _numba_available():
+        raise ImportError("compile_kernels: numba is not installed; the compiled path of the harmonic balance "
+                          "needs it (pip install numba); the Python path works without")
+    t0 = time.perf_counter()
+    if verbose:
+        print("rotorkit: compiling the harmonic-balance kernels (once per cache folder, a minute or two) ...",
+              flush=True)
+    for kind in KINDS:
+        _kernel(kind)
+    if verbose:
+        print(f"rotorkit: harmonic-balance kernels ready in {time.perf_counter() - t0:.1f} s", flush=True)
 
 
 @functools.lru_cache(maxsize=None)
