@@ -2,7 +2,7 @@
 
 A speed branch of a small system costs the Python path a few milliseconds
 per point, nearly all of it call overhead around arrays of a few dozen
-entries. The numba kernels of :mod:`rotorkit.periodic.compiled` run the same
+entries. The numba kernels of :mod:`rotorkit.periodic.compiled` and :mod:`~rotorkit.periodic.compiled_points` run the same
 algorithm (the continuation loop with its corrector, tangents, step control,
 grazing corners and the end at a bound; then per point the error estimate
 and Hill's multipliers) in one call each.
@@ -184,10 +184,10 @@ def _cache_name(kind):
     import hashlib
     from pathlib import Path
 
-    from . import compiled, eigen
+    from . import compiled, compiled_points, eigen
 
     digest = hashlib.sha256()
-    for path in (compiled.__file__, eigen.__file__):
+    for path in (compiled.__file__, compiled_points.__file__, eigen.__file__):
         digest.update(Path(path).read_bytes())
     return f"periodic_{kind}-{digest.hexdigest()[:12]}"
 
@@ -256,9 +256,9 @@ def compile_kernels(verbose=True):
 def _kernel(kind):
     """The kernel ``kind`` ("continue" or "points"), compiled for its signature (numba's verified disk cache)."""
     from ..codegen.cache import jit_shared, shared_lock
-    from . import compiled
+    from . import compiled, compiled_points
 
-    function = compiled.continue_kernel if kind == "continue" else compiled.point_data_kernel
+    function = compiled.continue_kernel if kind == "continue" else compiled_points.point_data_kernel
     name = _cache_name(kind)
     with shared_lock(name):
         return jit_shared(function.py_func, name, _signature(kind), error_model="numpy")
