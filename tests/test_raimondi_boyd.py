@@ -32,43 +32,14 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
 
-from rotorkit.fluidfilm import FilmGrid, solve_film
+from rotorkit.fluidfilm.published import (RAIMONDI_BOYD, RAIMONDI_BOYD_COLUMNS, half_unit, raimondi_boyd_variables,
+                                          sommerfeld_and_attitude, supplied_film)
 
-# eps, S, phi (deg), (R/c) f, Q / (R c N L), Qs / Q, P / p_max
-RAIMONDI_BOYD = {
-    1.0: [(0.1, 1.33, 79.5, 26.4, 3.37, 0.150, 0.540),
-          (0.2, 0.631, 74.02, 12.8, 3.59, 0.280, 0.529),
-          (0.4, 0.264, 63.10, 5.79, 3.99, 0.497, 0.484),
-          (0.6, 0.121, 50.58, 3.22, 4.33, 0.680, 0.415),
-          (0.8, 0.0446, 36.24, 1.70, 4.62, 0.842, 0.313),
-          (0.9, 0.0188, 26.45, 1.05, 4.74, 0.919, 0.247),
-          (0.97, 0.00474, 15.47, 0.514, 4.82, 0.973, 0.152)],
-    0.5: [(0.1, 4.31, 81.62, 85.6, 3.43, 0.173, 0.523),
-          (0.2, 2.03, 74.94, 40.9, 3.72, 0.318, 0.506),
-          (0.4, 0.779, 61.45, 17.0, 4.29, 0.552, 0.441),
-          (0.6, 0.319, 48.14, 8.10, 4.85, 0.730, 0.365),
-          (0.8, 0.0923, 33.31, 3.26, 5.41, 0.874, 0.267),
-          (0.9, 0.0313, 23.66, 1.60, 5.69, 0.939, 0.206),
-          (0.97, 0.00609, 13.75, 0.610, 5.88, 0.980, 0.126)],
-    0.25: [(0.1, 16.2, 82.31, 322.0, 3.45, 0.180, 0.515),
-           (0.2, 7.57, 75.18, 153.0, 3.76, 0.330, 0.489),
-           (0.4, 2.83, 60.86, 61.1, 4.37, 0.567, 0.415),
-           (0.6, 1.07, 46.72, 26.7, 4.99, 0.746, 0.334),
-           (0.8, 0.261, 31.04, 8.80, 5.60, 0.884, 0.240),
-           (0.9, 0.0736, 21.85, 3.50, 5.91, 0.945, 0.180),
-           (0.97, 0.0101, 12.22, 0.922, 6.12, 0.984, 0.108)],
-}
-COLUMNS = ("eps", "S", "phi", "friction", "flow", "side_flow_ratio", "load_over_pmax")
+COLUMNS = RAIMONDI_BOYD_COLUMNS
 
 GRID = dict(n_theta=144, n_z=12)
-
-
-def half_unit(value, digits=3):
-    """Half a unit in the last of ``digits`` significant digits of a printed ``value``."""
-    return 0.5 * 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1)
 
 
 def half_unit_angle(phi):
@@ -76,45 +47,9 @@ def half_unit_angle(phi):
     return 0.05 if round(phi, 1) == phi else 0.005
 
 
-def supplied_film(slenderness, eps, n_theta=GRID["n_theta"], n_z=GRID["n_z"]):
-    """The film at ``(eps, 0)`` fed at ambient pressure at the maximum film thickness (``theta = pi``)."""
-    grid = FilmGrid(slenderness=slenderness, n_theta=n_theta, n_z=n_z)
-    supply = np.zeros(n_theta, bool)
-    supply[n_theta // 2] = True
-    return solve_film(grid, (eps, 0.0), ambient=supply)
-
-
-def sommerfeld_and_attitude(solution):
-    """``S = 2 / (pi |f|)`` and the attitude (deg) from the load (``-f``) to the eccentricity (``+x``)."""
-    f = solution.force
-    phi = math.degrees(math.atan2(-f[1], -f[0]))
-    return 2 / (math.pi * math.hypot(*f)), (-phi + 180.0) % 360.0 - 180.0
-
-
 def performance(slenderness, eps, **grid):
-    """Raimondi & Boyd's columns of this film at ``eps``: dict with ``S``, ``phi`` and the four design variables.
-
-    Friction: Couette shear over the whole circumference (also where the film is cavitated, as Raimondi & Boyd)
-    plus the pressure term, ``(R/c) f = 2 pi^2 S / sqrt(1 - eps^2) + (eps / 2) sin(phi)``. Flow into the film at
-    its start ``Q / (R c N L) = pi integral_{-1}^{1} (H / 2 - H^3 / 12 dP/dtheta) dZ`` just downstream of the
-    supply line; side flow at both ends ``Qs / (R c N L) = (pi / 6) (D/L)^2 integral H^3 (-dP/dZ)|_{Z=1} dtheta``;
-    ``P / p_max = 1 / (2 pi S max(P))`` (``P = p c^2 / (mu Omega R^2)``). Derivatives one-sided, second order.
-    """
-    solution = supplied_film(slenderness, eps, **grid)
-    S, phi = sommerfeld_and_attitude(solution)
-    g, P = solution.grid, solution.pressure
-    H = 1 - eps * np.cos(g.theta)
-    i = g.n_theta // 2
-    dP_dtheta = (-3 * P[i] + 4 * P[i + 1] - P[i + 2]) / (2 * g.dtheta)
-    flux = H[i] / 2 - H[i] ** 3 / 12 * dP_dtheta  # on Z_j = j / n_z; at Z = 1, P = 0 and the flux is H / 2
-    weights = np.full(g.n_z, 2.0 / g.n_z)
-    weights[0] = 1.0 / g.n_z
-    flow = math.pi * (flux @ weights + H[i] / 2 / g.n_z)
-    dP_dZ = (P[:, -2] - 4 * P[:, -1]) / (2 * g.dz)  # P = 0 at Z = 1
-    side_flow = math.pi / 6 / slenderness**2 * np.sum(H**3 * -dP_dZ) * g.dtheta
-    friction = 2 * math.pi**2 * S / math.sqrt(1 - eps**2) + eps / 2 * math.sin(math.radians(phi))
-    return {"S": S, "phi": phi, "friction": friction, "flow": flow, "side_flow_ratio": side_flow / flow,
-            "load_over_pmax": 1 / (2 * math.pi * S * P.max())}
+    """Raimondi & Boyd's columns of this film at ``eps`` (:func:`~rotorkit.fluidfilm.published.raimondi_boyd_variables`)."""
+    return raimondi_boyd_variables(slenderness, eps, supplied_film(slenderness, eps, **grid))
 
 
 def eccentricity_at(slenderness, s, eps_guess, **grid):

@@ -39,6 +39,8 @@ from rotorkit import ParameterError, UnitError
 from rotorkit.elements import JournalBearing, LumpedMass, Rotor
 from rotorkit.elements.journal_bearing import short_bearing_eccentricity
 from rotorkit.fluidfilm import FilmGrid, PlainJournalBearing, solve_film
+from rotorkit.fluidfilm.published import (SOMEYA, SOMEYA_FLOW_FRICTION, SOMEYA_GROOVES, TO_SOMEYA,
+                                          databook_friction_and_side_flow, rigid_turn)
 
 D, C, MU, W = 0.1, 1e-4, 0.03, 5000.0
 
@@ -144,61 +146,17 @@ def test_stiffness_maps_the_static_locus():
 
 
 # -- (2) Someya's Journal-Bearing Databook, two-axial-groove bearing -------------------------------------------------
-# S, eps, phi (deg), kxx, kxy, kyx, kyy, bxx, bxy, byx, byy; x along the load, y at +90 deg in the direction of rotation
-SOMEYA = {
-    0.5: [(4.43, 0.100, 80.4, 1.75, 10.3, -9.66, 2.70, 20.6, 2.08, 2.08, 11.4),
-          (2.07, 0.200, 71.6, 1.88, 5.63, -4.41, 2.56, 11.2, 2.22, 2.22, 6.43),
-          (1.24, 0.300, 64.1, 2.07, 4.27, -2.56, 2.34, 8.50, 2.32, 2.32, 4.73),
-          (0.798, 0.400, 57.5, 2.39, 3.75, -1.57, 2.17, 7.32, 2.24, 2.24, 3.50),
-          (0.517, 0.500, 51.1, 2.89, 3.57, -0.924, 2.03, 6.81, 2.10, 2.10, 2.60),
-          (0.323, 0.600, 44.7, 3.65, 3.62, -0.427, 1.92, 6.81, 2.08, 2.08, 2.06),
-          (0.187, 0.700, 38.2, 4.92, 3.88, 0.0235, 1.83, 7.32, 2.16, 2.16, 1.70),
-          (0.0926, 0.800, 31.2, 7.35, 4.46, 0.527, 1.78, 8.17, 2.05, 2.05, 1.24),
-          (0.0315, 0.900, 22.7, 13.8, 5.76, 1.24, 1.72, 10.6, 2.03, 2.03, 0.846)],
-    1.0: [(1.45, 0.100, 78.7, 2.04, 10.2, -9.62, 2.77, 20.8, 1.67, 1.67, 7.55),
-          (0.689, 0.200, 69.9, 1.99, 5.45, -4.38, 2.56, 11.3, 1.78, 1.78, 4.39),
-          (0.424, 0.300, 61.0, 2.20, 3.96, -2.52, 2.31, 8.67, 1.99, 1.99, 3.50),
-          (0.284, 0.400, 54.6, 2.37, 3.34, -1.60, 2.06, 7.57, 2.10, 2.09, 2.94),
-          (0.194, 0.500, 49.1, 2.67, 3.09, -1.00, 1.89, 6.99, 2.00, 2.00, 2.31),
-          (0.131, 0.600, 43.8, 3.19, 3.06, -0.553, 1.77, 6.69, 1.82, 1.82, 1.74),
-          (0.0828, 0.700, 38.4, 4.16, 3.29, -0.0851, 1.75, 7.07, 2.00, 2.00, 1.59),
-          (0.0469, 0.800, 32.1, 6.10, 3.82, 0.420, 1.74, 8.08, 2.15, 2.15, 1.34),
-          (0.0195, 0.900, 25.0, 11.9, 5.28, 1.32, 1.80, 10.1, 2.06, 2.06, 0.916)],
-}
-# the printed side flow Q = q / (R Omega c L) (both ends) and journal friction T = f R / c, at (S, eps):
-# every row of the two tables (pp. 14, 17)
-SOMEYA_FLOW_FRICTION = {
-    0.5: [(5.96, 0.075, 0.0663, 111.5), (4.43, 0.1, 0.0880, 83.0), (2.07, 0.2, 0.170, 39.5), (1.24, 0.3, 0.243, 24.4),
-          (0.798, 0.4, 0.309, 16.4), (0.517, 0.5, 0.366, 11.3), (0.323, 0.6, 0.416, 7.75), (0.187, 0.7, 0.459, 5.13),
-          (0.135, 0.75, 0.478, 4.07), (0.0926, 0.8, 0.496, 3.13), (0.0582, 0.85, 0.510, 2.30),
-          (0.0315, 0.9, 0.524, 1.56), (0.00499, 0.975, 0.543, 0.543)],
-    1.0: [(2.95, 0.05, 0.0351, 55.1), (1.96, 0.075, 0.0523, 36.6), (1.45, 0.1, 0.0692, 27.3), (0.689, 0.2, 0.132, 13.2),
-          (0.424, 0.3, 0.181, 8.41), (0.284, 0.4, 0.220, 5.93), (0.194, 0.5, 0.251, 4.37), (0.131, 0.6, 0.274, 3.26),
-          (0.0828, 0.7, 0.295, 2.39), (0.0469, 0.8, 0.302, 1.69), (0.0195, 0.9, 0.300, 1.04),
-          (0.00866, 0.95, 0.297, 0.684)],
-}
-TO_SOMEYA = np.array([[0.0, -1.0], [1.0, 0.0]])  # (x_s, y_s) = (-y, x): load along -y here
-GROOVES = ((0.0, 10.0), (180.0, 10.0))  # 10 deg wide at +-90 deg from the load: the printed friction says so (below)
+# the printed tables (SOMEYA, SOMEYA_FLOW_FRICTION) and their axes and grooves: rotorkit.fluidfilm.published
 
 
 def someya_bearing(slenderness, n_theta=144, n_z=12):
     """The Databook's two-axial-groove bearing on a grid whose nodes fall on the groove edges."""
-    return bearing(slenderness, grooves=GROOVES, n_theta=n_theta, n_z=n_z)
+    return bearing(slenderness, grooves=SOMEYA_GROOVES, n_theta=n_theta, n_z=n_z)
 
 
 def tangential_direction(phi):
     """Unit vector perpendicular to the line of centres (attitude ``phi`` from the load), Someya's frame."""
     return np.array([-math.sin(phi), math.cos(phi)])
-
-
-def rigid_rotation_stiffness(k, eps, phi):
-    """``k`` (``K c / W``, Someya's frame) with its tangential column replaced by the rigid turn of the film.
-
-    Turning a rotationally symmetric film with the journal turns its force: ``K e_t = (0, 1 / eps)`` for the
-    dimensionless load ``(1, 0)``. The radial column ``K e_r`` is kept.
-    """
-    e_r, e_t = np.array([math.cos(phi), math.sin(phi)]), tangential_direction(phi)
-    return np.outer(k @ e_r, e_r) + np.outer([0.0, 1.0 / eps], e_t)
 
 
 @pytest.mark.parametrize("slenderness", [0.5, 1.0])
@@ -207,12 +165,12 @@ def test_someya_stiffness_is_the_rigid_turn_of_the_film(slenderness):
     (all rows but L/D = 1, eps = 0.9, which obeys it with an attitude of 24.0 deg instead of the printed 25.0)."""
     for s, eps, phi, *coefficients in SOMEYA[slenderness][: 8 if slenderness == 1.0 else 9]:
         k = np.reshape(coefficients[:4], (2, 2))
-        k_rigid = rigid_rotation_stiffness(k, eps, math.radians(phi))
+        k_rigid = rigid_turn(k, eps, math.radians(phi))
         assert np.abs(k - k_rigid).max() < 3e-3 * np.abs(k).max()
     s, eps, phi, *coefficients = SOMEYA[1.0][8]
     k = np.reshape(coefficients[:4], (2, 2))
-    assert np.abs(k - rigid_rotation_stiffness(k, eps, math.radians(phi))).max() > 1.5e-2 * np.abs(k).max()
-    assert np.abs(k - rigid_rotation_stiffness(k, eps, math.radians(24.0))).max() < 3e-3 * np.abs(k).max()
+    assert np.abs(k - rigid_turn(k, eps, math.radians(phi))).max() > 1.5e-2 * np.abs(k).max()
+    assert np.abs(k - rigid_turn(k, eps, math.radians(24.0))).max() < 3e-3 * np.abs(k).max()
 
 
 def test_fixed_grooves_anchor_the_film_so_the_tangential_stiffness_is_not_the_rigid_turn():
@@ -225,31 +183,6 @@ def test_fixed_grooves_anchor_the_film_so_the_tangential_stiffness_is_not_the_ri
     assert abs(along[0]) > 0.05 / eps and along[1] < 0.6 / eps  # a rigid turn would give (0, 1 / eps)
 
 
-def journal_friction_and_side_flow(b, solution, s, groove_width=10.0):
-    """The Databook's ``T = f R / c`` of the journal and ``Q = q / (R Omega c L)`` (both ends) of a film solution.
-
-    Friction: Couette shear ``mu U / h`` over the whole land (the grooves carry none; full shear also where the
-    film is cavitated), plus the pressure term ``(h / 2) dp / (R dtheta)``: ``T = pi S integral_land dtheta / H +
-    (pi S / 4) (X f_y - Y f_x)`` (its second term is ``eps sin(phi) / 2``). Side flow: ``h^3 / (12 mu) dp/dz`` at
-    the two ends, ``Q = (D / L)^2 / 12 integral H^3 (-dP/dZ)|_{Z=1} dtheta``.
-    """
-    X, Y = solution.position
-    n = 7200
-    theta = (np.arange(n) + 0.5) * 2 * math.pi / n
-    distance = np.min([np.abs((theta - math.radians(c) + math.pi) % (2 * math.pi) - math.pi) for c, _ in GROOVES],
-                      axis=0)
-    land = distance > math.radians(groove_width) / 2
-    H = 1 - X * np.cos(theta) - Y * np.sin(theta)
-    T = math.pi * s * np.sum(1 / H[land]) * 2 * math.pi / n \
-        + math.pi * s / 4 * (X * solution.force[1] - Y * solution.force[0])
-    grid, P = solution.grid, solution.pressure
-    H_nodes = 1 - X * np.cos(grid.theta) - Y * np.sin(grid.theta)
-    dP_dZ = (P[:, -2] - 4 * P[:, -1]) / (2 * grid.dz)  # second-order one-sided, P = 0 at Z = 1
-    slenderness = b.length / b.diameter
-    Q = np.sum(H_nodes**3 * -dP_dZ) * grid.dtheta / (12 * slenderness**2)
-    return T, Q
-
-
 @pytest.mark.parametrize("slenderness", [0.5, 1.0])
 def test_someya_friction_fixes_the_groove_width_and_side_flow_agrees_at_small_eccentricity(slenderness):
     """Every printed friction ``T`` within 0.5 % with 10 deg grooves (measured: 0.33 % at most; T is the shear
@@ -259,14 +192,14 @@ def test_someya_friction_fixes_the_groove_width_and_side_flow_agrees_at_small_ec
     b = someya_bearing(slenderness, n_theta=72)
     for s, eps, q, t in SOMEYA_FLOW_FRICTION[slenderness]:
         solution = b.equilibrium(speed_for_sommerfeld(s, slenderness))
-        T, Q = journal_friction_and_side_flow(b, solution, s)
+        T, Q = databook_friction_and_side_flow(b, solution, s)
         assert abs(T / t - 1) < 5e-3, (eps, T, t)
         assert abs(Q / q - 1) < (0.02 if eps <= 0.4 else 0.15) and Q / q > 0.99, (eps, Q, q)
     # the groove width is what T sees: 7.5 deg grooves miss it by more than 0.8 %
     narrow = bearing(slenderness, grooves=((0.0, 7.5), (180.0, 7.5)), n_theta=96, n_z=12)
     for s, eps, q, t in SOMEYA_FLOW_FRICTION[slenderness][2:6]:
         solution = narrow.equilibrium(speed_for_sommerfeld(s, slenderness))
-        assert journal_friction_and_side_flow(narrow, solution, s, groove_width=7.5)[0] / t - 1 > 8e-3
+        assert databook_friction_and_side_flow(narrow, solution, s)[0] / t - 1 > 8e-3
 
 
 # Per-entry tolerances of the comparison with the Databook, in % of the printed entry ("z": of the largest printed
@@ -315,7 +248,7 @@ def test_someya_two_axial_groove_bearing(slenderness, row):
     assert abs(math.degrees(table.attitude_angle[0]) - phi) < ATTITUDE_TOLERANCE.get((slenderness, eps), 0.5)
     k = TO_SOMEYA @ table.stiffness[0] @ TO_SOMEYA.T * C / W
     c = TO_SOMEYA @ table.damping[0] @ TO_SOMEYA.T * C * omega / W
-    k = rigid_rotation_stiffness(k, table.eccentricity_ratio[0], table.attitude_angle[0])
+    k = rigid_turn(k, table.eccentricity_ratio[0], table.attitude_angle[0])
     computed, printed = np.concatenate([k.ravel(), c.ravel()]), np.array(coefficients)
     for name, value, reference, tol in zip(("kxx", "kxy", "kyx", "kyy", "bxx", "bxy", "byx", "byy"), computed,
                                            printed, SOMEYA_TOLERANCE[slenderness, eps]):

@@ -4,7 +4,9 @@
   the Reynolds (Swift-Stieber) cavitation condition as a complementarity problem;
 - :mod:`rotorkit.fluidfilm.plain_journal`: :class:`PlainJournalBearing`, its static equilibrium under a load and the
   eight stiffness and damping coefficients against speed, handed to
-  :class:`~rotorkit.elements.linear_bearing.LinearBearing`.
+  :class:`~rotorkit.elements.linear_bearing.LinearBearing`;
+- :mod:`rotorkit.fluidfilm.published`: the published tables it is verified against (Someya, Raimondi & Boyd) and
+  this film's quantities in their conventions.
 
 The nonlinear short-bearing film (for time simulation) is the element
 :class:`~rotorkit.elements.journal_bearing.JournalBearing`; both agree at small ``L / D``.
