@@ -9,12 +9,17 @@ from rotorkit.elements.base import Element, Terms
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def load_handwritten():
-    """The independent hand-written AL-31F reference in bench/."""
-    spec = importlib.util.spec_from_file_location("al31f_handwritten", ROOT / "bench" / "al31f_handwritten.py")
+def load_bench(name):
+    """The script ``bench/<name>.py`` as a module (neither bench/ nor tests/ is a package)."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "bench" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def load_handwritten():
+    """The independent hand-written AL-31F reference in bench/."""
+    return load_bench("al31f_handwritten")
 
 
 @dataclass(frozen=True, slots=True, kw_only=True)

@@ -1,6 +1,6 @@
 """Condensed harmonic balance on a stiff beam rotor: the branch passes where its corrector used to stall.
 
-A 13-node beam rotor (52 coordinates, the shape of bench/bench_fe.py's rotor) with a rub stator at one
+A 13-node beam rotor (52 coordinates, bench/bench_fe.py's rotor) with a rub stator at one
 disk, in full annular rub over the range. Its condensed residual was formed as the inverse of the
 receptance ``G_cc``; with beam stiffnesses ~1e8 N/m that left a round-off floor near the Newton
 tolerance and the branch from 290 rad/s stopped at 301.8 rad/s. The reference is the full (uncondensed)
@@ -12,24 +12,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rotorkit import ElasticSupport, Model, Rotor, RubStator
+from helpers import load_bench
+
 from rotorkit.analysis.periodic import periodic_response, periodic_solution
-from rotorkit.elements import BeamSegment, Disk, Material
 
 
 def beam_rub_rotor(nodes=13):
-    steel = Material.steel()
-    stations = tuple(range(1, nodes + 1))
-    elements = [Rotor(name="R", stations=stations, speed=300.0)]
-    elements += [BeamSegment(start=s, end=s + 1, length=1.5 / (nodes - 1), outer_diameter=0.05, material=steel)
-                 for s in stations[:-1]]
-    disks = (stations[nodes // 3], stations[2 * nodes // 3])
-    for s, phase in zip(disks, (0.0, 1.0)):
-        elements.append(Disk.from_geometry(station=s, width=0.07, inner_diameter=0.05, outer_diameter=0.28,
-                                           material=steel, eccentricity=2e-4, phase=phase))
-    elements += [ElasticSupport(station=s, stiffness=1e6, damping=200.0) for s in (stations[0], stations[-1])]
-    elements.append(RubStator(station=disks[0], clearance=1e-5, contact_stiffness=2e6, friction_coefficient=0.1))
-    return Model(elements, name=f"beamrub{nodes}")
+    """bench/bench_fe.py's rotor with ``nodes`` beam nodes, its rub stator at the first disk."""
+    return load_bench("bench_fe").fe_rotor(nodes, name=f"beamrub{nodes}")
 
 
 @pytest.mark.slow
