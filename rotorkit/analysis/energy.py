@@ -691,8 +691,10 @@ def _balance_on(evaluator, t, q, u, p, cuts):
 
 def _add_modal_damping(model, parameters, terms, u, pieces):
     """Add the power ``-q' . C q'`` of a rotor's ModalDamping (a numeric matrix, no term of ``D``) to "damping"."""
-    from ..linear.modal_damping import coordinate_damping_matrix
+    from ..linear.modal_damping import coordinate_damping_matrix, modal_damping_spec
 
+    if modal_damping_spec(model) is None:  # the usual case: no model rebuilt at the run's values
+        return
     own = set(model.parameters)
     C = coordinate_damping_matrix(model.with_values(**{k: v for k, v in parameters.items() if k in own}),
                                   terms.coordinates)
