@@ -315,17 +315,4 @@ def complex_null_vector(G, x):
                     G[i, j] -= f * G[k, j]
     for i in range(m):
         x[i] = 1.0
-    for k in range(m):
-        p = piv[k]
-        if p != k:
-            x[k], x[p] = x[p], x[k]
-    for i in range(m):
-        s = x[i]
-        for j in range(i):
-            s -= G[i, j] * x[j]
-        x[i] = s
-    for i in range(m - 1, -1, -1):
-        s = x[i]
-        for j in range(i + 1, m):
-            s -= G[i, j] * x[j]
-        x[i] = s / G[i, i]
+    lu_solve(G, piv, x, x)
