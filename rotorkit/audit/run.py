@@ -301,7 +301,8 @@ def api617_audit(model, operating_range, *, q_a=None, wachel=None, trip_speed=No
               "scale factor bounds": f"{limits[0]:g} to {limits[1]:g}",
               "journal static loads": ", ".join(f"{k}: {v:.4g} kg" for k, v in loads.items())}
     if wachel is not None:
-        inputs.update({f"Wachel {k}": str(v) for k, v in wachel.items()})
+        inputs.update({f"Wachel {k}": ", ".join(map(str, v)) if isinstance(v, (list, tuple)) else str(v)
+                       for k, v in wachel.items()})
     return Api617Audit(model=model, inputs=inputs, operating=(low, mcs), trip_speed=trip, top_speed=top,
                        journal_loads=loads, bearings=bearings, static=static, shear_moment=shear, critical_map=cmap,
                        modes=modes, stability=stability, wachel=q_each, version=rotorkit.__version__)
