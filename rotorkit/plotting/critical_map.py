@@ -28,12 +28,19 @@ def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
     f = display_factor(units, "speed")
     ax = new_axes(ax, figsize=(6.0, 4.5))
     for j in range(cmap.speeds.shape[1]):
+        if not np.any(np.isfinite(cmap.speeds[:, j])):
+            continue  # no critical speed of this order in the range: no empty legend entry
         ax.loglog(cmap.stiffnesses, cmap.speeds[:, j] * f, "-", color=f"C{j % 10}", lw=1.4,
                   label=f"critical speed {j + 1}")
         if show_backward:
             ax.loglog(cmap.stiffnesses, cmap.backward[:, j] * f, "--", color=f"C{j % 10}", lw=1.0)
+    # one shade per bearing, one line style per direction ("<bearing> kxx", "<bearing> kyy")
+    bearings = list(dict.fromkeys(label.rsplit(" ", 1)[0] for label in cmap.bearing_curves))
+    shades = {name: str(0.55 * i / max(len(bearings) - 1, 1)) for i, name in enumerate(bearings)}
     for i, (label, (speeds, stiffness)) in enumerate(cmap.bearing_curves.items()):
-        ax.loglog(np.asarray(stiffness), np.asarray(speeds) * f, "k" + ":-."[i % 2], lw=1.2, label=label)
+        style = "-." if label.endswith("kyy") else ":"
+        ax.loglog(np.asarray(stiffness), np.asarray(speeds) * f, style, color=shades[label.rsplit(" ", 1)[0]],
+                  lw=1.4, label=label)
     ax.set_xlabel("support stiffness (N/m)")
     ax.set_ylabel(f"critical speed ({units})")
     ax.set_title(f"undamped critical speed map (supports at {', '.join(cmap.supports)})", fontsize=9)
