@@ -74,10 +74,15 @@ class CompiledSetup:
         self.P = np.ascontiguousarray(hb.P)
         self.ED = np.ascontiguousarray(hb.ED)
 
+        self.n_switches = hb.system.n_switches
+        self._ints = np.zeros(11, dtype=np.int64)
+        self._ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, self.n_switches
+        #: the model's functions as first-class arguments: True when they are the address-holding objects of
+        #: :func:`_addressed`, which the kernels' entry points take as they are (:func:`_entry`)
+        self.addressed = all(isinstance(getattr(f, "_address", None), int) for f in functions)
+
     def ints(self, **values):
-        hb = self.hb
-        ints = np.zeros(11, dtype=np.int64)
-        ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, hb.system.n_switches
+        ints = self._ints.copy()
         for name, value in values.items():
             ints[_INTS[name]] = value
         return ints
@@ -139,10 +144,21 @@ def _new_setup(problem):
     return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
 
 
+_ADDRESSED = {}
+
+
 def _addressed(functions):
     """The model's jitted functions as objects holding their compiled address (numba's wrapper address
     protocol): passing a dispatcher makes numba look the address up at every kernel call (about 0.1 ms each);
-    the dispatchers themselves where that fails."""
+    the dispatchers themselves where that fails. Made once per set of functions (one per model structure)."""
+    key = tuple(id(f) for f in functions)
+    found = _ADDRESSED.get(key)
+    if found is None or any(a is not b for a, b in zip(found[0], functions)):
+        found = _ADDRESSED[key] = (tuple(functions), _new_addressed(functions))
+    return found[1]
+
+
+def _new_addressed(functions):
     try:
         from numba import types
         from numba.experimental.function_type import _get_wrapper_address
@@ -252,6 +268,31 @@ def compile_kernels(verbose=True):
         print(f"rotorkit: harmonic-balance kernels ready in {time.perf_counter() - t0:.1f} s", flush=True)
 
 
+def _entry(kind, setup):
+    """The callable that runs kernel ``kind`` for ``setup``: the compiled overload's entry point, which takes
+    the arguments as they are, where the model's functions are address-holding objects (:func:`_addressed`);
+    else the dispatcher.
+
+    The dispatcher types every argument at each call to pick the overload, and a first-class function
+    argument costs it a new numba type per call (about 10 us each); the kernels have a single overload,
+    compiled for :func:`_signature`, so the choice is known. The entry point checks no argument type: every
+    array passed is built here with the signature's dtype and C order."""
+    kernel = _kernel(kind)
+    if not setup.addressed:
+        return kernel
+    found = _ENTRIES.get(kind)
+    if found is None or found[0] is not kernel:
+        try:
+            entry = kernel.overloads[_signature(kind).args].entry_point
+        except (AttributeError, KeyError, TypeError):  # another numba's internals: the dispatcher
+            entry = kernel
+        found = _ENTRIES[kind] = (kernel, entry)
+    return found[1]
+
+
+_ENTRIES = {}
+
+
 @functools.lru_cache(maxsize=None)
 def _kernel(kind):
     """The kernel ``kind`` ("continue" or "points"), compiled for its signature (numba's verified disk cache)."""
@@ -285,7 +326,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
                    direction, 0.0])
     u0 = np.append(np.asarray(z0, dtype=float) / z_scale, lam0 / l_scale)
     t0 = np.zeros(size + 1)
-    kernel = _kernel("continue")
+    kernel = _entry("continue", setup)
     chunk = 16 if progress is not None else opts.max_points
     first = True
     while True:
@@ -305,15 +346,15 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
             out.tangents.append(t0 * scales)
             out.residuals.append(0.0)
             first = False
-        for k in range(new):
-            out.parameter.append(float(out_u[k, size]))
-            out.coefficients.append(out_u[k, :size].copy())
-            out.tangents.append(out_t[k] * scales)
-            out.residuals.append(float(out_norm[k]))
-            if out_corner[k]:
-                out.corners.append(len(out.parameter) - 1)
-            if progress is not None and not (status == BOUND and k == new - 1):
-                progress(len(out.parameter), float(out_u[k, size]))
+        count = len(out.parameter)
+        out.parameter.extend(out_u[:new, size].tolist())
+        out.coefficients.extend(out_u[:new, :size].copy())
+        out.tangents.extend(out_t[:new] * scales)
+        out.residuals.extend(out_norm[:new].tolist())
+        out.corners.extend((count + np.flatnonzero(out_corner[:new])).tolist())
+        if progress is not None:
+            for k in range(new if status != BOUND else new - 1):
+                progress(count + k + 1, out.parameter[count + k])
         if status == BUDGET:
             out.reason = f"point budget of {opts.max_points} points reached"
             return True
@@ -343,12 +384,14 @@ def solve_compiled(problem, guess, lam, *, tol, max_iterations):
 
 def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
     size = setup.hb.size
+    if u0.shape != (size + 1,) or u0.dtype != np.float64:  # the entry point checks nothing (see _entry)
+        raise ValueError(f"expected {size} harmonic-balance unknowns, got shape {u0.shape[:1]}")
     out_u, out_norm = np.zeros((1, size + 1)), np.zeros(1)
     out_corner = np.zeros(max(corner_size, 1), dtype=np.bool_)
-    result = _kernel("continue")(setup.rhs, setup.jac, setup.switches, setup.ints(max_iterations=max_iterations,
-                                                                                   start=mode), fl, setup.E,
-                                 setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window,
-                                 u0, t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
+    result = _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
+                                       setup.ints(max_iterations=max_iterations, start=mode), fl, setup.E, setup.P,
+                                       setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window, u0,
+                                       t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -378,7 +421,7 @@ def switches_compiled(problem, z, lam):
         return last[1]
     fl = np.zeros(12)
     fl[0], fl[11] = setup.s0, lam
-    ns = setup.hb.system.n_switches
+    ns = setup.n_switches
     _, _, gap, state = _call(setup, 4, np.append(z, 0.0), np.zeros(setup.hb.size + 1), fl, corner_size=ns)
     found = float(gap), state[:ns].copy()
     setup._last_switches = (key, found)
@@ -411,7 +454,7 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
     mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
     ok = np.ones(count, dtype=np.bool_)
     fl = np.array([setup.s0])
-    _kernel("points")(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass,
+    _entry("points", setup)(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass,
                       np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying, setup.coef,
                       setup.window, np.ascontiguousarray(EG), np.ascontiguousarray(EDG), np.ascontiguousarray(EDDG),
                       lam, Z, errors, mu_re, mu_im, ok)
