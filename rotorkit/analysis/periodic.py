@@ -452,23 +452,31 @@ def _grazing_point(problem, lam, Z, i):
         far = piece[0]
         if 0 <= far < len(lam):
             z_far = np.ravel(Z[far])
-            if np.array_equal(problem.contact_state(z_far, lam[far]), state):
-                known.insert(0, (problem.gap(z_far, lam[far]), float(lam[far]), z_far))
+            g_far = problem.gap(z_far, lam[far])
+            if np.array_equal(problem.contact_state(z_far, lam[far]), state) and g_far not in (known[0][0], g_near):
+                known.insert(0, (g_far, float(lam[far]), z_far))
         known.append((g_near, float(lam[near]), z_near))
         estimates.append(_piece_to_grazing(problem, known, state))
     return float(np.mean(estimates))
 
 
-def _interpolate(points, g):
+def _interpolate(points, g, coefficients=True):
     """``(lambda, z)`` at gap ``g`` along a piece: the polynomial in the gap through ``points`` (``(gap,
-    lambda, z)``; inverse interpolation: smooth through a smooth fold of the parameter, too)."""
-    lam, z = 0.0, 0.0
-    for a, (ga, la, za) in enumerate(points):
+    lambda, z)``; inverse interpolation: smooth through a smooth fold of the parameter, too); ``z`` None unless
+    ``coefficients``."""
+    weights = []
+    for a, (ga, _, _) in enumerate(points):
         w = 1.0
         for b, (gb, _, _) in enumerate(points):
             if b != a:
                 w *= (g - gb) / (ga - gb)
-        lam, z = lam + w * la, z + w * za
+        weights.append(w)
+    lam = sum(w * la for w, (_, la, _) in zip(weights, points))
+    if not coefficients:
+        return lam, None
+    z = weights[0] * points[0][2]
+    for w, (_, _, za) in zip(weights[1:], points[1:]):
+        z += w * za
     return lam, z
 
 
@@ -491,29 +499,40 @@ def _piece_to_grazing(problem, points, state, iterations=10):
         if abs(g_b) <= 1e-9 * size or points[-2][0] == g_b:
             break
         if len(points) >= 3:
-            linear = _interpolate(points[-2:], 0.0)[0]
-            quadratic = _interpolate(points[-3:], 0.0)[0]
+            linear = _interpolate(points[-2:], 0.0, False)[0]
+            quadratic = _interpolate(points[-3:], 0.0, False)[0]
             slope = (g_b - points[-2][0]) / (l_b - points[-2][1]) if l_b != points[-2][1] else 0.0
             error = 2.0 * abs(slope * (quadratic - linear))
             aim = math.copysign(min(0.5 * abs(g_b), max(error, 1e-12 * size)), g_b)
         else:
             aim = 0.01 * g_b
-        for _ in range(30):
-            l_c, guess = _interpolate(points[-3:], aim)
-            try:
-                z_c = problem.solve(guess, l_c, tol=1e-10, max_iterations=20)
-                g_c = problem.gap(z_c, l_c)
-                if g_c != g_b and (abs(g_c) <= 1e-6 * size or np.array_equal(problem.contact_state(z_c, l_c), state)):
-                    break  # still on this piece
-            except ConvergenceError:
-                pass
-            aim = 0.5 * (aim + g_b)
-        else:
+        found = _step_on_piece(problem, points, aim, state, size)
+        if found is None:
             break
-        points = [*points[-2:], (g_c, l_c, z_c)]
+        points = [*points[-2:], found]
     if points[-1][0] == points[-2][0]:
         return float(points[-1][1])
-    return float(_interpolate(points[-3:], 0.0)[0])
+    return float(_interpolate(points[-3:], 0.0, False)[0])
+
+
+def _step_on_piece(problem, points, aim, state, size):
+    """The solution ``(gap, lambda, z)`` on the piece interpolated at gap ``aim`` (halved towards the last
+    point's while Newton fails there or finds the other piece), or None."""
+    g_b = points[-1][0]
+    for _ in range(30):
+        l_c, guess = _interpolate(points[-3:], aim)
+        if not math.isfinite(l_c):
+            return None
+        try:
+            z_c = problem.solve(guess, l_c, tol=1e-10, max_iterations=20)
+            g_c = problem.gap(z_c, l_c)
+            if all(g_c != g for g, _, _ in points[-2:]) and (
+                    abs(g_c) <= 1e-6 * size or np.array_equal(problem.contact_state(z_c, l_c), state)):
+                return g_c, l_c, z_c  # still on this piece (and a new gap: the interpolation needs distinct ones)
+        except ConvergenceError:
+            pass
+        aim = 0.5 * (aim + g_b)
+    return None
 
 
 def _turning_point(lam, Z, i):

@@ -74,7 +74,9 @@ class CompiledSetup:
         self.P = np.ascontiguousarray(hb.P)
         self.ED = np.ascontiguousarray(hb.ED)
 
+        self.size = hb.size
         self.n_switches = hb.system.n_switches
+        self._switches_seen = {}  # (lambda, z bytes) -> (gap, state) of the last few points asked
         self._ints = np.zeros(11, dtype=np.int64)
         self._ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, self.n_switches
         #: the model's functions as first-class arguments: True when they are the address-holding objects of
@@ -374,16 +376,16 @@ def solve_compiled(problem, guess, lam, *, tol, max_iterations):
     setup = compiled_setup(problem)
     if setup is None:
         return None
-    size = setup.hb.size
+    u0 = np.zeros(setup.size + 1)
+    u0[:-1] = np.ravel(guess)
     fl = np.zeros(12)
     fl[0], fl[9], fl[11] = setup.s0, tol, lam
-    (converged, _), z, _, _ = _call(setup, 2, np.append(np.asarray(guess, dtype=float), 0.0), np.zeros(size + 1),
-                                    fl, max_iterations=max_iterations)
+    (converged, _), z, _, _ = _call(setup, 2, u0, u0, fl, max_iterations=max_iterations)
     return z.copy(), bool(converged)
 
 
 def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
-    size = setup.hb.size
+    size = setup.size
     if u0.shape != (size + 1,) or u0.dtype != np.float64:  # the entry point checks nothing (see _entry)
         raise ValueError(f"expected {size} harmonic-balance unknowns, got shape {u0.shape[:1]}")
     out_u, out_norm = np.zeros((1, size + 1)), np.zeros(1)
@@ -391,7 +393,7 @@ def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
     result = _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
                                        setup.ints(max_iterations=max_iterations, start=mode), fl, setup.E, setup.P,
                                        setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window, u0,
-                                       t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
+                                       t0, out_u, out_u, out_norm, out_corner)  # out_t: unused by these modes
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -403,8 +405,7 @@ def linear_scale_compiled(problem, values):
         return None
     fl = np.zeros(12)
     fl[0] = setup.s0
-    size = setup.hb.size
-    biggest = _call(setup, 3, np.zeros(size + 1), np.ascontiguousarray(values, dtype=float), fl)[2]
+    biggest = _call(setup, 3, np.zeros(setup.size + 1), np.ascontiguousarray(values, dtype=float), fl)[2]
     return float(biggest)
 
 
@@ -414,17 +415,22 @@ def switches_compiled(problem, z, lam):
     setup = compiled_setup(problem)
     if setup is None:
         return None
-    z = np.asarray(z, dtype=float)
-    key = (float(lam), z.tobytes())
-    last = getattr(setup, "_last_switches", None)
-    if last is not None and last[0] == key:  # gap and contact_state are asked at the same point in turn
-        return last[1]
+    u0 = np.zeros(setup.size + 1)
+    u0[:-1] = z
+    lam = float(lam)
+    key = (lam, u0.tobytes())
+    seen = setup._switches_seen
+    found = seen.get(key)
+    if found is not None:  # gap and contact_state are asked at the same points in turn
+        return found
     fl = np.zeros(12)
     fl[0], fl[11] = setup.s0, lam
     ns = setup.n_switches
-    _, _, gap, state = _call(setup, 4, np.append(z, 0.0), np.zeros(setup.hb.size + 1), fl, corner_size=ns)
+    _, _, gap, state = _call(setup, 4, u0, u0, fl, corner_size=ns)
     found = float(gap), state[:ns].copy()
-    setup._last_switches = (key, found)
+    if len(seen) >= 8:
+        seen.pop(next(iter(seen)))
+    seen[key] = found
     return found
 
 
