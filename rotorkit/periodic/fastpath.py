@@ -73,7 +73,6 @@ class CompiledSetup:
         self.E = np.ascontiguousarray(hb.E)
         self.P = np.ascontiguousarray(hb.P)
         self.ED = np.ascontiguousarray(hb.ED)
-
         self.size = hb.size
         self.n_switches = hb.system.n_switches
         self._switches_seen = {}  # (lambda, z bytes) -> (gap, state) of the last few points asked
@@ -380,7 +379,7 @@ def solve_compiled(problem, guess, lam, *, tol, max_iterations):
     u0[:-1] = np.ravel(guess)
     fl = np.zeros(12)
     fl[0], fl[9], fl[11] = setup.s0, tol, lam
-    (converged, _), z, _, _ = _call(setup, 2, u0, u0, fl, max_iterations=max_iterations)
+    (converged, _), z, _, _ = _call(setup, 2, u0, np.zeros(setup.size + 1), fl, max_iterations=max_iterations)
     return z.copy(), bool(converged)
 
 
@@ -393,7 +392,7 @@ def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
     result = _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
                                        setup.ints(max_iterations=max_iterations, start=mode), fl, setup.E, setup.P,
                                        setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window, u0,
-                                       t0, out_u, out_u, out_norm, out_corner)  # out_t: unused by these modes
+                                       t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -426,7 +425,7 @@ def switches_compiled(problem, z, lam):
     fl = np.zeros(12)
     fl[0], fl[11] = setup.s0, lam
     ns = setup.n_switches
-    _, _, gap, state = _call(setup, 4, u0, u0, fl, corner_size=ns)
+    _, _, gap, state = _call(setup, 4, u0, np.zeros(setup.size + 1), fl, corner_size=ns)
     found = float(gap), state[:ns].copy()
     if len(seen) >= 8:
         seen.pop(next(iter(seen)))
@@ -446,24 +445,19 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
     setup = compiled_setup(problem)
     if setup is None:
         return None
-    from .hb import fourier_basis
-
     hb = setup.hb
     lam = np.ascontiguousarray(parameter, dtype=float)
     Z = np.ascontiguousarray(np.reshape(coefficients, (len(lam), hb.size)), dtype=float)
-    EG, _, D = fourier_basis(hb.harmonics, grid_factor * hb.samples)
-    EDG = EG @ D
-    EDDG = EDG @ D
+    EG, EDG, EDDG = _error_grid(hb.harmonics, grid_factor * hb.samples)
     hill = stability == "hill"
     count = len(lam)
     errors = np.zeros(count)
     mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
     ok = np.ones(count, dtype=np.bool_)
     fl = np.array([setup.s0])
-    _entry("points", setup)(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass,
-                      np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying, setup.coef,
-                      setup.window, np.ascontiguousarray(EG), np.ascontiguousarray(EDG), np.ascontiguousarray(EDDG),
-                      lam, Z, errors, mu_re, mu_im, ok)
+    _entry("points", setup)(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED,
+                            setup.mass, np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying,
+                            setup.coef, setup.window, EG, EDG, EDDG, lam, Z, errors, mu_re, mu_im, ok)
     omega = lam / hb.subharmonic
     if not hill:
         return omega, errors, None
@@ -474,3 +468,16 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
         for i in np.flatnonzero(~ok):
             multipliers[i] = hill_multipliers(hb, Z[i], problem.frame(lam[i]))
     return omega, errors, multipliers
+
+
+@functools.lru_cache(maxsize=16)
+def _error_grid(harmonics, samples):
+    """The synthesis of ``q``, ``q'`` and ``q''`` (over ``w``, ``w^2``) on the error estimate's grid of ``samples``
+    instants, each (samples, 2H + 1), C order; shared by every call with these sizes (the kernel only reads them;
+    writeable, as the kernel's signature types them)."""
+    from .hb import fourier_basis
+
+    EG, _, D = fourier_basis(harmonics, samples)
+    EDG = EG @ D
+    EDDG = EDG @ D
+    return tuple(np.ascontiguousarray(A) for A in (EG, EDG, EDDG))
