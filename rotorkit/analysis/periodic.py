@@ -435,28 +435,35 @@ def _grazing_point(problem, lam, Z, i):
     """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces: some contact
     switch is active at some instant on one side and at none on the other).
 
-    Each piece, from its points nearest the corner (two, or three where the third has the same contact state),
-    is followed towards the grazing by :func:`_piece_to_grazing`; the two pieces' values are averaged (they
-    agree to the iteration's accuracy; a piece with one point gives its value as it is).
+    The grazing orbit lies on both pieces. The piece whose point nearest the corner penetrates least is
+    followed to it by :func:`_piece_to_grazing` from its points nearest the corner (two, or three where the
+    third has the same contact state); only if that does not converge is the other piece followed too, and the
+    two values averaged (a piece with one point gives its value as it is).
     """
-    estimates = []
+    pieces = []
     for piece in ((i - 2, i - 1, i), (i + 3, i + 2, i + 1)):
         near = piece[2]
-        if not 0 <= piece[1] < len(lam):
+        z_near = np.ravel(Z[near])
+        pieces.append((abs(problem.gap(z_near, lam[near])), piece))
+    estimates = []
+    for _, (far, mid, near) in sorted(pieces, key=lambda p: p[0]):
+        if not 0 <= mid < len(lam):
             estimates.append(float(lam[near]))
             continue
-        z_near = np.ravel(Z[near])
+        z_near, z_mid = np.ravel(Z[near]), np.ravel(Z[mid])
         state = problem.contact_state(z_near, lam[near])
         g_near = problem.gap(z_near, lam[near])
-        known = [(problem.gap(np.ravel(Z[piece[1]]), lam[piece[1]]), float(lam[piece[1]]), np.ravel(Z[piece[1]]))]
-        far = piece[0]
+        known = [(problem.gap(z_mid, lam[mid]), float(lam[mid]), z_mid)]
         if 0 <= far < len(lam):
             z_far = np.ravel(Z[far])
             g_far = problem.gap(z_far, lam[far])
             if np.array_equal(problem.contact_state(z_far, lam[far]), state) and g_far not in (known[0][0], g_near):
                 known.insert(0, (g_far, float(lam[far]), z_far))
         known.append((g_near, float(lam[near]), z_near))
-        estimates.append(_piece_to_grazing(problem, known, state))
+        value, converged = _piece_to_grazing(problem, known, state)
+        estimates.append(value)
+        if converged:
+            break
     return float(np.mean(estimates))
 
 
@@ -491,7 +498,7 @@ def _piece_to_grazing(problem, points, state, iterations=10):
     has no solution, and a Newton solve that fails there costs as much as ten that converge. A solve that fails
     or lands on the other piece halves the aimed gap towards the last point's. The value is the
     interpolation's at gap zero once the last point's gap is below ``1e-9`` of the first's (or after
-    ``iterations`` steps).
+    ``iterations`` steps). Returns ``(value, converged)``, converged when that gap was reached.
     """
     size = max(abs(g) for g, _, _ in points)
     for _ in range(iterations):
@@ -510,9 +517,10 @@ def _piece_to_grazing(problem, points, state, iterations=10):
         if found is None:
             break
         points = [*points[-2:], found]
+    converged = abs(points[-1][0]) <= 1e-9 * size
     if points[-1][0] == points[-2][0]:
-        return float(points[-1][1])
-    return float(_interpolate(points[-3:], 0.0, False)[0])
+        return float(points[-1][1]), converged
+    return float(_interpolate(points[-3:], 0.0, False)[0]), converged
 
 
 def _step_on_piece(problem, points, aim, state, size):
