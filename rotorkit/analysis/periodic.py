@@ -438,15 +438,16 @@ def _grazing_point(problem, lam, Z, i):
     The grazing orbit lies on both pieces. The piece whose point nearest the corner penetrates least is
     followed to it by :func:`_piece_to_grazing` from its points nearest the corner (two, or three where the
     third has the same contact state); only if that does not converge is the other piece followed too, and the
-    two values averaged (a piece with one point gives its value as it is).
+    two values averaged (a piece with a single point, at an end of the branch, comes last and gives that
+    point's value).
     """
     pieces = []
     for piece in ((i - 2, i - 1, i), (i + 3, i + 2, i + 1)):
         near = piece[2]
-        z_near = np.ravel(Z[near])
-        pieces.append((abs(problem.gap(z_near, lam[near])), piece))
+        single = not 0 <= piece[1] < len(lam)
+        pieces.append((single, abs(problem.gap(np.ravel(Z[near]), lam[near])), piece))
     estimates = []
-    for _, (far, mid, near) in sorted(pieces, key=lambda p: p[0]):
+    for _, _, (far, mid, near) in sorted(pieces, key=lambda p: p[:2]):
         if not 0 <= mid < len(lam):
             estimates.append(float(lam[near]))
             continue
