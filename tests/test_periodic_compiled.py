@@ -101,6 +101,12 @@ def test_compiled_branch_lies_on_the_closed_form_circle(both):
     r = compiled.harmonic_amplitude("x1", 1)
     assert np.max(np.abs([circle_residual(W, ri) for W, ri in zip(compiled.parameter, r)])) < 1e-8
     assert np.any(r > 4 * DELTA) and np.any((r > DELTA) & (r < 1.2 * DELTA))  # through the contact and the corner
+    # the grazing corner: where the linear circle's radius is the clearance, m e W^2 = delta |k - m W^2 + i c W|
+    from scipy.optimize import brentq
+
+    grazing = brentq(lambda W: M * E * W**2 - DELTA * abs(K - M * W**2 + 1j * C * W), 105.0, 120.0, xtol=1e-12)
+    assert [b.kind for b in compiled.bifurcations][-1] == "grazing fold"
+    assert abs(compiled.bifurcations[-1].parameter - grazing) < 1e-10 * grazing
 
 
 def test_compiled_progress_and_point_budget(rub_system):

@@ -435,43 +435,113 @@ def _grazing_point(problem, lam, Z, i):
     """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces: some contact
     switch is active at some instant on one side and at none on the other).
 
-    Along each piece, from its two points nearest the corner, a secant iteration on the deepest penetration
-    (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.gap`) with a Newton solve at each new
-    parameter value (staying on that piece) drives the penetration to zero; the two pieces' values are
-    averaged (they agree to the iteration's accuracy; a piece with one point gives its value as it is).
+    The grazing orbit lies on both pieces. The piece whose point nearest the corner penetrates least is
+    followed to it by :func:`_piece_to_grazing` from its points nearest the corner (two, or three where the
+    third has the same contact state); only if that does not converge is the other piece followed too, and the
+    two values averaged (a piece with a single point, at an end of the branch, comes last and gives that
+    point's value).
     """
+    pieces = []
+    for piece in ((i - 2, i - 1, i), (i + 3, i + 2, i + 1)):
+        near = piece[2]
+        single = not 0 <= piece[1] < len(lam)
+        pieces.append((single, abs(problem.gap(np.ravel(Z[near]), lam[near])), piece))
     estimates = []
-    for a, b in ((i - 1, i), (i + 2, i + 1)):
-        if not 0 <= a < len(lam):
-            estimates.append(float(lam[b]))
+    for _, _, (far, mid, near) in sorted(pieces, key=lambda p: p[:2]):
+        if not 0 <= mid < len(lam):
+            estimates.append(float(lam[near]))
             continue
-        estimates.append(_secant_to_grazing(problem, np.ravel(Z[a]), lam[a], np.ravel(Z[b]), lam[b]))
+        z_near, z_mid = np.ravel(Z[near]), np.ravel(Z[mid])
+        state = problem.contact_state(z_near, lam[near])
+        g_near = problem.gap(z_near, lam[near])
+        known = [(problem.gap(z_mid, lam[mid]), float(lam[mid]), z_mid)]
+        if 0 <= far < len(lam):
+            z_far = np.ravel(Z[far])
+            g_far = problem.gap(z_far, lam[far])
+            if np.array_equal(problem.contact_state(z_far, lam[far]), state) and g_far not in (known[0][0], g_near):
+                known.insert(0, (g_far, float(lam[far]), z_far))
+        known.append((g_near, float(lam[near]), z_near))
+        value, converged = _piece_to_grazing(problem, known, state)
+        estimates.append(value)
+        if converged:
+            break
     return float(np.mean(estimates))
 
 
-def _secant_to_grazing(problem, za, la, zb, lb, iterations=8):
-    """The parameter where the penetration along the piece through ``(za, la)`` and ``(zb, lb)`` is zero."""
-    ga, gb = problem.gap(za, la), problem.gap(zb, lb)
-    state = problem.contact_state(zb, lb)
-    size = max(abs(ga), abs(gb))
+def _interpolate(points, g, coefficients=True):
+    """``(lambda, z)`` at gap ``g`` along a piece: the polynomial in the gap through ``points`` (``(gap,
+    lambda, z)``; inverse interpolation: smooth through a smooth fold of the parameter, too); ``z`` None unless
+    ``coefficients``."""
+    weights = []
+    for a, (ga, _, _) in enumerate(points):
+        w = 1.0
+        for b, (gb, _, _) in enumerate(points):
+            if b != a:
+                w *= (g - gb) / (ga - gb)
+        weights.append(w)
+    lam = sum(w * la for w, (_, la, _) in zip(weights, points))
+    if not coefficients:
+        return lam, None
+    z = weights[0] * points[0][2]
+    for w, (_, _, za) in zip(weights[1:], points[1:]):
+        z += w * za
+    return lam, z
+
+
+def _piece_to_grazing(problem, points, state, iterations=10):
+    """The parameter where the penetration along one piece is zero.
+
+    ``points``: ``(gap, lambda, z)`` of two or three solutions on the piece, in order towards the corner;
+    ``state`` the piece's contact state. The parameter and the coefficients are interpolated as polynomials
+    in the gap (:func:`_interpolate`, the last three points). Each step aims at a gap of the piece's own sign,
+    short of zero by the interpolation's estimated error (the last point's gap over 100 where no estimate
+    exists yet), so that the Newton solve at the aimed parameter stays on the piece: past the corner the piece
+    has no solution, and a Newton solve that fails there costs as much as ten that converge. A solve that fails
+    or lands on the other piece halves the aimed gap towards the last point's. The value is the
+    interpolation's at gap zero once the last point's gap is below ``1e-9`` of the first's (or after
+    ``iterations`` steps). Returns ``(value, converged)``, converged when that gap was reached.
+    """
+    size = max(abs(g) for g, _, _ in points)
     for _ in range(iterations):
-        if gb == ga or abs(gb) <= 1e-9 * size:
+        g_b, l_b, z_b = points[-1]
+        if abs(g_b) <= 1e-9 * size or points[-2][0] == g_b:
             break
-        lc = lb - gb * (lb - la) / (gb - ga)
-        for _ in range(30):  # past the corner this piece has no solution: halve the step back towards lb
-            guess = zb + (zb - za) * ((lc - lb) / (lb - la) if lb != la else 0.0)
-            try:
-                zc = problem.solve(guess, lc, tol=1e-10, max_iterations=20)
-                gc = problem.gap(zc, lc)
-                if abs(gc) <= 1e-6 * size or np.array_equal(problem.contact_state(zc, lc), state):
-                    break  # still on this piece
-            except ConvergenceError:
-                pass
-            lc = lb + 0.5 * (lc - lb)
+        if len(points) >= 3:
+            linear = _interpolate(points[-2:], 0.0, False)[0]
+            quadratic = _interpolate(points[-3:], 0.0, False)[0]
+            slope = (g_b - points[-2][0]) / (l_b - points[-2][1]) if l_b != points[-2][1] else 0.0
+            error = 2.0 * abs(slope * (quadratic - linear))
+            aim = math.copysign(min(0.5 * abs(g_b), max(error, 1e-12 * size)), g_b)
         else:
+            aim = 0.01 * g_b
+        found = _step_on_piece(problem, points, aim, state, size)
+        if found is None:
             break
-        za, la, ga, zb, lb, gb = zb, lb, gb, zc, lc, gc
-    return float(lb - gb * (lb - la) / (gb - ga)) if gb != ga else float(lb)
+        points = [*points[-2:], found]
+    converged = abs(points[-1][0]) <= 1e-9 * size
+    if points[-1][0] == points[-2][0]:
+        return float(points[-1][1]), converged
+    return float(_interpolate(points[-3:], 0.0, False)[0]), converged
+
+
+def _step_on_piece(problem, points, aim, state, size):
+    """The solution ``(gap, lambda, z)`` on the piece interpolated at gap ``aim`` (halved towards the last
+    point's while Newton fails there or finds the other piece), or None."""
+    g_b = points[-1][0]
+    for _ in range(30):
+        l_c, guess = _interpolate(points[-3:], aim)
+        if not math.isfinite(l_c):
+            return None
+        try:
+            z_c = problem.solve(guess, l_c, tol=1e-10, max_iterations=20)
+            g_c = problem.gap(z_c, l_c)
+            if all(g_c != g for g, _, _ in points[-2:]) and (
+                    abs(g_c) <= 1e-6 * size or np.array_equal(problem.contact_state(z_c, l_c), state)):
+                return g_c, l_c, z_c  # still on this piece (and a new gap: the interpolation needs distinct ones)
+        except ConvergenceError:
+            pass
+        aim = 0.5 * (aim + g_b)
+    return None
 
 
 def _turning_point(lam, Z, i):
@@ -500,7 +570,7 @@ def _branch(problem, points, stability):
     """The :class:`Branch` of the raw continuation output: error estimates, stability and bifurcations."""
     from ..periodic.branch import Bifurcation, Branch
     from ..periodic.fastpath import point_data
-    from ..periodic.stability import classify_crossing, hill_multipliers, is_stable, monodromy_multipliers
+    from ..periodic.stability import STABILITY_TOL, classify_crossing, hill_multipliers, monodromy_multipliers
 
     hb = problem.hb
     full = getattr(hb, "full", hb)  # the condensed problem's full harmonic balance
@@ -511,38 +581,42 @@ def _branch(problem, points, stability):
         Z = np.array([hb.expand(z, problem.frame(v)) for z, v in zip(raw, lam)]).reshape(len(lam), 2 * H + 1, n)
     else:
         Z = np.array(raw).reshape(len(lam), 2 * H + 1, n)
-    omega, errors, shares, multipliers = [], [], [], []
+    omega, errors, multipliers = [], [], []
+    amplitudes = np.hypot(Z[:, 1::2], Z[:, 2::2])  # (points, H, n)
+    top = np.max(amplitudes, axis=(1, 2), initial=0.0)
+    shares = np.where(top > 0, np.max(amplitudes[:, -1], axis=1, initial=0.0) / np.where(top > 0, top, 1.0), 0.0)
     compiled = point_data(problem, lam, Z, stability, ERROR_GRID_FACTOR) if full is hb else None
-    for value, z in zip(lam, Z):
-        amplitudes = np.hypot(z[1::2], z[2::2])
-        top = float(np.max(amplitudes)) if amplitudes.size else 0.0
-        shares.append(float(np.max(amplitudes[-1])) / top if top > 0 else 0.0)
-        if compiled is not None:  # the same quantities by the compiled kernel (rotorkit.periodic.fastpath)
-            continue
-        frame = problem.frame(value)
-        omega.append(frame.omega)
-        r = full.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
-        errors.append(float(np.max(np.abs(r))) / frame.scale)
-        if stability == "hill":
-            multipliers.append(hill_multipliers(full, z.ravel(), frame))
-        elif stability == "monodromy":
-            multipliers.append(monodromy_multipliers(full, z.ravel(), frame)[0])
-    if compiled is not None:
+    if compiled is not None:  # the same quantities by the compiled kernel (rotorkit.periodic.fastpath)
         omega, errors, mu = compiled
     else:
+        for value, z in zip(lam, Z):
+            frame = problem.frame(value)
+            omega.append(frame.omega)
+            r = full.time_residual(z.ravel(), frame, ERROR_GRID_FACTOR * hb.samples)
+            errors.append(float(np.max(np.abs(r))) / frame.scale)
+            if stability == "hill":
+                multipliers.append(hill_multipliers(full, z.ravel(), frame))
+            elif stability == "monodromy":
+                multipliers.append(monodromy_multipliers(full, z.ravel(), frame)[0])
         mu = np.array(multipliers) if multipliers else None
-    stable = np.array([is_stable(m) for m in mu]) if mu is not None else None
+    stable, unstable = None, None
+    if mu is not None:
+        magnitude = np.abs(mu)
+        stable = np.all(magnitude <= 1.0 + STABILITY_TOL, axis=1)  # is_stable per point
+        unstable = np.sum(magnitude > 1.0 + STABILITY_TOL, axis=1)  # classify_crossing's count
     bifurcations = []
     tangents = np.array(points.tangents)
-    for i in range(len(lam) - 1):
-        if tangents[i, -1] * tangents[i + 1, -1] < 0:
+    turns = tangents[:-1, -1] * tangents[1:, -1] < 0
+    events = turns if unstable is None else turns | (unstable[:-1] != unstable[1:])
+    for i in np.flatnonzero(events).tolist():
+        if turns[i]:
             grazing = hb.contact and not np.array_equal(problem.contact_state(raw[i], lam[i]),
                                                          problem.contact_state(raw[i + 1], lam[i + 1]))
             extreme = _grazing_point(problem, lam, raw, i) if grazing else _turning_point(lam, Z, i)
             bifurcations.append(Bifurcation("grazing fold" if grazing else "fold", i,
                                             extreme))
         if mu is not None:
-            kind = classify_crossing(mu[i], mu[i + 1])
+            kind = classify_crossing(mu[i], mu[i + 1])  # None unless the count of unstable multipliers changes
             if kind in ("period doubling", "Neimark-Sacker"):
                 a = np.max(np.abs(mu[i])) - 1.0
                 b = np.max(np.abs(mu[i + 1])) - 1.0

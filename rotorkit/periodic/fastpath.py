@@ -73,11 +73,17 @@ class CompiledSetup:
         self.E = np.ascontiguousarray(hb.E)
         self.P = np.ascontiguousarray(hb.P)
         self.ED = np.ascontiguousarray(hb.ED)
+        self.size = hb.size
+        self.n_switches = hb.system.n_switches
+        self._switches_seen = {}  # (lambda, z bytes) -> (gap, state) of the last few points asked
+        self._ints = np.zeros(11, dtype=np.int64)
+        self._ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, self.n_switches
+        #: the model's functions as first-class arguments: True when they are the address-holding objects of
+        #: :func:`_addressed`, which the kernels' entry points take as they are (:func:`_entry`)
+        self.addressed = all(isinstance(getattr(f, "_address", None), int) for f in functions)
 
     def ints(self, **values):
-        hb = self.hb
-        ints = np.zeros(11, dtype=np.int64)
-        ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, hb.system.n_switches
+        ints = self._ints.copy()
         for name, value in values.items():
             ints[_INTS[name]] = value
         return ints
@@ -139,10 +145,21 @@ def _new_setup(problem):
     return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
 
 
+_ADDRESSED = {}
+
+
 def _addressed(functions):
     """The model's jitted functions as objects holding their compiled address (numba's wrapper address
     protocol): passing a dispatcher makes numba look the address up at every kernel call (about 0.1 ms each);
-    the dispatchers themselves where that fails."""
+    the dispatchers themselves where that fails. Made once per set of functions (one per model structure)."""
+    key = tuple(id(f) for f in functions)
+    found = _ADDRESSED.get(key)
+    if found is None or any(a is not b for a, b in zip(found[0], functions)):
+        found = _ADDRESSED[key] = (tuple(functions), _new_addressed(functions))
+    return found[1]
+
+
+def _new_addressed(functions):
     try:
         from numba import types
         from numba.experimental.function_type import _get_wrapper_address
@@ -252,6 +269,31 @@ def compile_kernels(verbose=True):
         print(f"rotorkit: harmonic-balance kernels ready in {time.perf_counter() - t0:.1f} s", flush=True)
 
 
+def _entry(kind, setup):
+    """The callable that runs kernel ``kind`` for ``setup``: the compiled overload's entry point, which takes
+    the arguments as they are, where the model's functions are address-holding objects (:func:`_addressed`);
+    else the dispatcher.
+
+    The dispatcher types every argument at each call to pick the overload, and a first-class function
+    argument costs it a new numba type per call (about 10 us each); the kernels have a single overload,
+    compiled for :func:`_signature`, so the choice is known. The entry point checks no argument type: every
+    array passed is built here with the signature's dtype and C order."""
+    kernel = _kernel(kind)
+    if not setup.addressed:
+        return kernel
+    found = _ENTRIES.get(kind)
+    if found is None or found[0] is not kernel:
+        try:
+            entry = kernel.overloads[_signature(kind).args].entry_point
+        except (AttributeError, KeyError, TypeError):  # another numba's internals: the dispatcher
+            entry = kernel
+        found = _ENTRIES[kind] = (kernel, entry)
+    return found[1]
+
+
+_ENTRIES = {}
+
+
 @functools.lru_cache(maxsize=None)
 def _kernel(kind):
     """The kernel ``kind`` ("continue" or "points"), compiled for its signature (numba's verified disk cache)."""
@@ -285,7 +327,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
                    direction, 0.0])
     u0 = np.append(np.asarray(z0, dtype=float) / z_scale, lam0 / l_scale)
     t0 = np.zeros(size + 1)
-    kernel = _kernel("continue")
+    kernel = _entry("continue", setup)
     chunk = 16 if progress is not None else opts.max_points
     first = True
     while True:
@@ -305,15 +347,15 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
             out.tangents.append(t0 * scales)
             out.residuals.append(0.0)
             first = False
-        for k in range(new):
-            out.parameter.append(float(out_u[k, size]))
-            out.coefficients.append(out_u[k, :size].copy())
-            out.tangents.append(out_t[k] * scales)
-            out.residuals.append(float(out_norm[k]))
-            if out_corner[k]:
-                out.corners.append(len(out.parameter) - 1)
-            if progress is not None and not (status == BOUND and k == new - 1):
-                progress(len(out.parameter), float(out_u[k, size]))
+        count = len(out.parameter)
+        out.parameter.extend(out_u[:new, size].tolist())
+        out.coefficients.extend(out_u[:new, :size].copy())
+        out.tangents.extend(out_t[:new] * scales)
+        out.residuals.extend(out_norm[:new].tolist())
+        out.corners.extend((count + np.flatnonzero(out_corner[:new])).tolist())
+        if progress is not None:
+            for k in range(new if status != BOUND else new - 1):
+                progress(count + k + 1, out.parameter[count + k])
         if status == BUDGET:
             out.reason = f"point budget of {opts.max_points} points reached"
             return True
@@ -333,22 +375,24 @@ def solve_compiled(problem, guess, lam, *, tol, max_iterations):
     setup = compiled_setup(problem)
     if setup is None:
         return None
-    size = setup.hb.size
+    u0 = np.zeros(setup.size + 1)
+    u0[:-1] = np.ravel(guess)
     fl = np.zeros(12)
     fl[0], fl[9], fl[11] = setup.s0, tol, lam
-    (converged, _), z, _, _ = _call(setup, 2, np.append(np.asarray(guess, dtype=float), 0.0), np.zeros(size + 1),
-                                    fl, max_iterations=max_iterations)
+    (converged, _), z, _, _ = _call(setup, 2, u0, np.zeros(setup.size + 1), fl, max_iterations=max_iterations)
     return z.copy(), bool(converged)
 
 
 def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
-    size = setup.hb.size
+    size = setup.size
+    if u0.shape != (size + 1,) or u0.dtype != np.float64:  # the entry point checks nothing (see _entry)
+        raise ValueError(f"expected {size} harmonic-balance unknowns, got shape {u0.shape[:1]}")
     out_u, out_norm = np.zeros((1, size + 1)), np.zeros(1)
     out_corner = np.zeros(max(corner_size, 1), dtype=np.bool_)
-    result = _kernel("continue")(setup.rhs, setup.jac, setup.switches, setup.ints(max_iterations=max_iterations,
-                                                                                   start=mode), fl, setup.E,
-                                 setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window,
-                                 u0, t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
+    result = _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
+                                       setup.ints(max_iterations=max_iterations, start=mode), fl, setup.E, setup.P,
+                                       setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window, u0,
+                                       t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -360,8 +404,7 @@ def linear_scale_compiled(problem, values):
         return None
     fl = np.zeros(12)
     fl[0] = setup.s0
-    size = setup.hb.size
-    biggest = _call(setup, 3, np.zeros(size + 1), np.ascontiguousarray(values, dtype=float), fl)[2]
+    biggest = _call(setup, 3, np.zeros(setup.size + 1), np.ascontiguousarray(values, dtype=float), fl)[2]
     return float(biggest)
 
 
@@ -371,17 +414,22 @@ def switches_compiled(problem, z, lam):
     setup = compiled_setup(problem)
     if setup is None:
         return None
-    z = np.asarray(z, dtype=float)
-    key = (float(lam), z.tobytes())
-    last = getattr(setup, "_last_switches", None)
-    if last is not None and last[0] == key:  # gap and contact_state are asked at the same point in turn
-        return last[1]
+    u0 = np.zeros(setup.size + 1)
+    u0[:-1] = z
+    lam = float(lam)
+    key = (lam, u0.tobytes())
+    seen = setup._switches_seen
+    found = seen.get(key)
+    if found is not None:  # gap and contact_state are asked at the same points in turn
+        return found
     fl = np.zeros(12)
     fl[0], fl[11] = setup.s0, lam
-    ns = setup.hb.system.n_switches
-    _, _, gap, state = _call(setup, 4, np.append(z, 0.0), np.zeros(setup.hb.size + 1), fl, corner_size=ns)
+    ns = setup.n_switches
+    _, _, gap, state = _call(setup, 4, u0, np.zeros(setup.size + 1), fl, corner_size=ns)
     found = float(gap), state[:ns].copy()
-    setup._last_switches = (key, found)
+    if len(seen) >= 8:
+        seen.pop(next(iter(seen)))
+    seen[key] = found
     return found
 
 
@@ -397,24 +445,19 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
     setup = compiled_setup(problem)
     if setup is None:
         return None
-    from .hb import fourier_basis
-
     hb = setup.hb
     lam = np.ascontiguousarray(parameter, dtype=float)
     Z = np.ascontiguousarray(np.reshape(coefficients, (len(lam), hb.size)), dtype=float)
-    EG, _, D = fourier_basis(hb.harmonics, grid_factor * hb.samples)
-    EDG = EG @ D
-    EDDG = EDG @ D
+    EG, EDG, EDDG = _error_grid(hb.harmonics, grid_factor * hb.samples)
     hill = stability == "hill"
     count = len(lam)
     errors = np.zeros(count)
     mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
     ok = np.ones(count, dtype=np.bool_)
     fl = np.array([setup.s0])
-    _kernel("points")(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass,
-                      np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying, setup.coef,
-                      setup.window, np.ascontiguousarray(EG), np.ascontiguousarray(EDG), np.ascontiguousarray(EDDG),
-                      lam, Z, errors, mu_re, mu_im, ok)
+    _entry("points", setup)(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED,
+                            setup.mass, np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying,
+                            setup.coef, setup.window, EG, EDG, EDDG, lam, Z, errors, mu_re, mu_im, ok)
     omega = lam / hb.subharmonic
     if not hill:
         return omega, errors, None
@@ -425,3 +468,16 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
         for i in np.flatnonzero(~ok):
             multipliers[i] = hill_multipliers(hb, Z[i], problem.frame(lam[i]))
     return omega, errors, multipliers
+
+
+@functools.lru_cache(maxsize=16)
+def _error_grid(harmonics, samples):
+    """The synthesis of ``q``, ``q'`` and ``q''`` (over ``w``, ``w^2``) on the error estimate's grid of ``samples``
+    instants, each (samples, 2H + 1), C order; shared by every call with these sizes (the kernel only reads them;
+    writeable, as the kernel's signature types them)."""
+    from .hb import fourier_basis
+
+    EG, _, D = fourier_basis(harmonics, samples)
+    EDG = EG @ D
+    EDDG = EDG @ D
+    return tuple(np.ascontiguousarray(A) for A in (EG, EDG, EDDG))
