@@ -120,7 +120,7 @@ def aft_states(z, j, omega, E, ED, n, y):
 @numba.njit(cache=False)
 def _workspace(ints, E, base):
     """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
-    ``(p, A0, K, C, info, zero, y, a, g, f, Aj, G, S, trig, terms, weights)``; ``info`` holds the speed
+    ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights)``; ``info`` holds the speed
     of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
     ``G``, ``S``, ``terms``, ``weights``: :func:`_projection_terms`."""
     n, N = ints[0], ints[2]
@@ -133,7 +133,7 @@ def _workspace(ints, E, base):
             trig[j, 2 * m + 1] = math.sin(angle)
     terms, weights = _projection_terms(H2, N)
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
-            np.zeros(2 * n), np.empty(2 * n), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
+            np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
             np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights)
 
 
@@ -226,7 +226,7 @@ def _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef
     size = n * H2
     _frame(lam, jac, ints, fl, base, varying, coef, window, M, ws)
     p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
-    y, a, g, f, Aj, G, S = ws[6], ws[7], ws[8], ws[9], ws[10], ws[11], ws[12]
+    Y, a, g, f, Aj, G, S = ws[6], ws[7], ws[8], ws[9], ws[10], ws[11], ws[12]
     trig, terms, weights = ws[13], ws[14], ws[15]
     nn = n * n
     omega, period = info[1], info[2]
@@ -272,10 +272,19 @@ def _residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef
         for k in range(2 * H2):
             for e in range(2 * nn):
                 S[k, e] = 0.0
+    for j in range(N):  # the states at the instants (aft_states for all of them)
+        for i in range(n):
+            q = 0.0
+            v = 0.0
+            for h in range(H2):
+                q += E[j, h] * z[h * n + i]
+                v += ED[j, h] * z[h * n + i]
+            Y[j, i] = q
+            Y[j, n + i] = omega * v
     contact = False
     for j in range(N):
         t = period * j / N
-        aft_states(z, j, omega, E, ED, n, y)
+        y = Y[j]
         for i in range(2 * n):
             a[i] = 0.0
         rhs(t, y, p, a)
@@ -389,9 +398,8 @@ def _scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws):
     n, N = ints[0], ints[2]
     H2 = E.shape[1]
     _frame(lam, jac, ints, fl, base, varying, coef, window, M, ws)
-    p, info, y, a = ws[0], ws[4], ws[5], ws[7]
+    p, info, y, a, f = ws[0], ws[4], ws[5], ws[7], ws[9]
     period = info[2]
-    F = np.zeros((H2, n))
     for j in range(N):
         for i in range(2 * n):
             a[i] = 0.0
@@ -400,8 +408,14 @@ def _scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws):
             s = 0.0
             for k in range(n):
                 s += M[i, k] * a[n + k]
-            for h in range(H2):
-                F[h, i] += P[h, j] * s
+            f[j, i] = s
+    F = np.empty((H2, n))
+    for h in range(H2):  # in the order of the samples, as force_scale
+        for i in range(n):
+            s = 0.0
+            for j in range(N):
+                s += P[h, j] * f[j, i]
+            F[h, i] = s
     biggest = 0.0
     for h in range(1, (H2 - 1) // 2 + 1):
         for i in range(n):
