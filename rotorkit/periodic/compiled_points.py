@@ -65,8 +65,10 @@ def _hill_matrix(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, 
     Fq = np.empty((n, n))
     Fv = np.empty((n, n))
     M2 = 2 * H + 1
-    FC = np.zeros((M2, 2, n, n))
-    FS = np.zeros((M2, 2, n, n))
+    nn = n * n
+    f = np.empty(2 * nn)  # Fq and Fv of one sample, flat
+    FC = np.zeros((M2, 2 * nn))
+    FS = np.zeros((M2, 2 * nn))
     cs = np.empty(M2)
     sn = np.empty(M2)
     for j in range(N):
@@ -75,6 +77,10 @@ def _hill_matrix(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, 
         jac(period * j / N, y, p, Aj)
         if not local_jacobian(M, Aj, A0, n, Fq, Fv):
             continue
+        for i in range(n):
+            for l in range(n):
+                f[i * n + l] = Fq[i, l]
+                f[nn + i * n + l] = Fv[i, l]
         cs[0], sn[0] = 1.0, 0.0
         for m in range(1, H + 1):
             cs[m], sn[m] = E[j, 2 * m - 1], E[j, 2 * m]
@@ -83,12 +89,10 @@ def _hill_matrix(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, 
             cs[m] = cs[H] * cs[k] - sn[H] * sn[k]
             sn[m] = sn[H] * cs[k] + cs[H] * sn[k]
         for m in range(M2):
-            for i in range(n):
-                for l in range(n):
-                    FC[m, 0, i, l] += cs[m] * Fq[i, l]
-                    FC[m, 1, i, l] += cs[m] * Fv[i, l]
-                    FS[m, 0, i, l] += sn[m] * Fq[i, l]
-                    FS[m, 1, i, l] += sn[m] * Fv[i, l]
+            cm, sm = cs[m], sn[m]
+            for r in range(2 * nn):
+                FC[m, r] += cm * f[r]
+                FS[m, r] += sm * f[r]
     for c in range(H2):
         a = (c + 1) // 2  # harmonic of row block c; kind: 0 constant, 1 cos, 2 sin
         ka = 0 if c == 0 else 2 - c % 2
@@ -102,20 +106,21 @@ def _hill_matrix(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, 
             for i in range(n):
                 for l in range(n):
                     for t in range(2):
+                        r = t * nn + i * n + l
                         if ka == 0 and kb == 0:
-                            v = FC[0, t, i, l]
+                            v = FC[0, r]
                         elif ka == 0:
-                            v = FC[b, t, i, l] if kb == 1 else FS[b, t, i, l]
+                            v = FC[b, r] if kb == 1 else FS[b, r]
                         elif kb == 0:
-                            v = FC[a, t, i, l] if ka == 1 else FS[a, t, i, l]
+                            v = FC[a, r] if ka == 1 else FS[a, r]
                         elif ka == 1 and kb == 1:  # cos a cos b
-                            v = 0.5 * (FC[lo, t, i, l] + FC[hi, t, i, l])
+                            v = 0.5 * (FC[lo, r] + FC[hi, r])
                         elif ka == 2 and kb == 2:  # sin a sin b
-                            v = 0.5 * (FC[lo, t, i, l] - FC[hi, t, i, l])
+                            v = 0.5 * (FC[lo, r] - FC[hi, r])
                         elif ka == 1:  # cos a sin b
-                            v = 0.5 * (FS[hi, t, i, l] - sg * FS[lo, t, i, l])
+                            v = 0.5 * (FS[hi, r] - sg * FS[lo, r])
                         else:  # sin a cos b
-                            v = 0.5 * (FS[hi, t, i, l] + sg * FS[lo, t, i, l])
+                            v = 0.5 * (FS[hi, r] + sg * FS[lo, r])
                         if t == 0:
                             Kt[c * n + i, d * n + l] -= weight * v
                         else:
