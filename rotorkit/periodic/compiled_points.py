@@ -17,11 +17,11 @@ import numba
 import numpy as np
 
 from .compiled import aft_states, force_scale, frame_at, local_jacobian, speed_frame
-from .eigen import complex_null_vector, eigenvalues, quadratic_eigenpair
+from .eigen import complex_lu, complex_null_vector, eigenvalues, lu_solve, quadratic_eigenpair
 from .stability import STABILITY_TOL
 
 __all__ = ["point_data_kernel", "hill_branch", "ANCHOR_EVERY", "TRACK_CENTRE", "RUNNER_CENTRE", "TRACK_OVERLAP",
-           "COPY_SPREAD"]
+           "COPY_SPREAD", "DOUBLE_OVERLAP"]
 
 #: a full solve of Hill's eigenproblem at least every ANCHOR_EVERY points of a branch
 ANCHOR_EVERY = 16
@@ -30,6 +30,9 @@ TRACK_CENTRE = 0.3
 #: a followed exponent centred beyond TRACK_CENTRE is compared with its copy one harmonic nearer the centre: the
 #: two centres must lie 1 +- COPY_SPREAD apart
 COPY_SPREAD = 0.2
+#: two followed exponents equal to rounding count as a double eigenvalue only if their eigenvectors' overlap is
+#: below DOUBLE_OVERLAP (else they converged to one exponent: the full method instead)
+DOUBLE_OVERLAP = 0.5
 #: following starts only from a full solve whose other exponents (not copies of kept ones) lie this far off
 RUNNER_CENTRE = 0.7
 #: a followed eigenvector's overlap |<u, u_prev>| / (|u| |u_prev|) with its predecessor's at least
@@ -291,24 +294,48 @@ def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept):
         centre_kept[q] = centre[i]
     for q in range(kept.shape[0], 2 * n):
         lam_kept[q] = np.nan
+    # a double eigenvalue kept twice has one null vector from complex_null_vector twice: for following, a second
+    # one from another right-hand side (independent if the eigenvalue is semisimple; else following fails)
+    G = np.empty((size, size), dtype=np.complex128)
+    piv = np.empty(size, dtype=np.int64)
+    for q in range(kept.shape[0]):
+        for r in range(q):
+            if (abs(lam_kept[q] - lam_kept[r]) <= 1e-8 * (abs(lam_kept[q]) + omega)
+                    and _overlap(vec_kept[q], vec_kept[r]) > DOUBLE_OVERLAP):
+                lam_q = lam_kept[q]
+                for i in range(size):
+                    for c in range(size):
+                        G[i, c] = A21[i, c] + lam_q * A22[i, c]
+                    G[i, i] -= lam_q * lam_q
+                complex_lu(G, piv)
+                x = np.empty(size, dtype=np.complex128)
+                for i in range(size):
+                    x[i] = (i + 1.0) * (-1.0) ** i
+                lu_solve(G, piv, x, x)
+                vec_kept[q, :] = x
+                centre_kept[q] = _centre_of(x, n, H)
+                break
     return kept.shape[0] == 2 * n, runner
 
 
 @numba.njit(cache=False)
-def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, lam_kept, vec_kept, centre_kept):
+def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, vec_kept, centre_kept):
     """Hill's exponents followed from the previous point's (``lam_prev``, ``vec_prev``) by shifted inverse
-    iteration (:func:`quadratic_eigenpair`), a conjugate pair's second member by conjugation; False unless every
+    iteration (:func:`quadratic_eigenpair`) from the shifts ``sigma`` (predicted exponents), a conjugate pair's second member by conjugation; False unless every
     exponent converged to an eigenvector close to its predecessor's, centred within ``TRACK_CENTRE``, and the
     ``2n`` exponents are distinct and no copies of each other (then the full method runs instead)."""
     size = n * (2 * H + 1)
     count = 2 * n
     u = np.empty(size, dtype=np.complex128)
+    used = np.zeros(count, dtype=np.bool_)
     for q in range(count):
         partner = -1
         if lam_prev[q].imag != 0.0:
             for r in range(q):
-                if lam_prev[r] == lam_prev[q].conjugate():
+                if not used[r] and lam_prev[r] == lam_prev[q].conjugate():
                     partner = r
+                    used[r] = True  # one partner each, and a mirrored exponent is no partner
+                    used[q] = True
                     break
         if partner >= 0:
             lam_kept[q] = lam_kept[partner].conjugate()
@@ -317,18 +344,10 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, lam_kept, vec_kept,
             centre_kept[q] = -centre_kept[partner]
             continue
         u[:] = vec_prev[q]
-        lam, ok = quadratic_eigenpair(A22, A21, lam_prev[q], u)
+        lam, ok = quadratic_eigenpair(A22, A21, sigma[q], u)
         if not ok:
             return False
-        # the eigenvector close to its predecessor's: |<u, u_prev>| / (|u| |u_prev|)
-        dot = 0.0j
-        nu = 0.0
-        nv = 0.0
-        for r in range(size):
-            dot += vec_prev[q, r].conjugate() * u[r]
-            nu += u[r].real ** 2 + u[r].imag ** 2
-            nv += vec_prev[q, r].real ** 2 + vec_prev[q, r].imag ** 2
-        if abs(dot) < TRACK_OVERLAP * math.sqrt(nu * nv):
+        if _overlap(u, vec_prev[q]) < TRACK_OVERLAP:  # the eigenvector close to its predecessor's
             return False
         centre = _centre_of(u, n, H)
         if abs(centre) > TRACK_CENTRE:
@@ -353,20 +372,37 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, lam_kept, vec_kept,
     for a in range(count):
         for b in range(a):
             if abs(lam_kept[a] - lam_kept[b]) <= 1e-8 * (abs(lam_kept[a]) + omega):
-                return False
-            if _is_copy(lam_kept[a], lam_kept[b], omega, 1e-3):
+                # the same eigenvalue twice: a double eigenvalue (the full method keeps both) only if the two
+                # eigenvectors are independent, else two exponents converged to one
+                if _overlap(vec_kept[a], vec_kept[b]) > DOUBLE_OVERLAP:
+                    return False
+            elif _is_copy(lam_kept[a], lam_kept[b], omega, 1e-3):
                 return False
     return True
 
 
 @numba.njit(cache=False)
+def _overlap(x, y):
+    """``|<x, y>| / (|x| |y|)``."""
+    dot = 0.0j
+    nx = 0.0
+    ny = 0.0
+    for r in range(x.shape[0]):
+        dot += x[r].conjugate() * y[r]
+        nx += x[r].real ** 2 + x[r].imag ** 2
+        ny += y[r].real ** 2 + y[r].imag ** 2
+    return abs(dot) / max(math.sqrt(nx * ny), 1e-300)
+
+
+@numba.njit(cache=False)
 def _hill_step(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, mu_re, mu_im, track,
-               lam_state, vec_state, info):
+               lam_state, vec_state, lam_older, info):
     """Hill's multipliers of one point of a branch into ``mu_re + i mu_im`` (2n): ``(ok, tracked)``.
 
     ``track``: follow the exponents of the previous point (``lam_state``, ``vec_state``, ``info``: whether
     they may be followed, points since the last full solve, the previous point's number of unstable
-    multipliers) where :func:`_hill_tracked` accepts them, at most ``ANCHOR_EVERY - 1`` points in a row and
+    multipliers, whether ``lam_older`` holds the exponents of the point before, to extrapolate from) where
+    :func:`_hill_tracked` accepts them, at most ``ANCHOR_EVERY - 1`` points in a row and
     not where the number of unstable multipliers changes; else (and always at the first point) the full
     method :func:`_hill_full`, after which following is allowed only when its selection is clear-cut (every
     kept exponent centred within ``0.5 + COPY_SPREAD / 2``, every other exponent that is not a copy of a kept one at
@@ -380,18 +416,38 @@ def _hill_step(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, wi
     vec_new = np.empty((count, size), dtype=np.complex128)
     centre = np.empty(count)
     if track and info[0] == 1 and info[1] < ANCHOR_EVERY - 1:
-        if _hill_tracked(A21, A22, n, H, omega, lam_state, vec_state, lam_new, vec_new, centre):
+        # the shifts: the previous exponents, moved on by their last change where the point before had them
+        sigma = lam_state.copy()
+        if info[3] == 1:
+            for q in range(count):
+                near = np.inf
+                step = 0.0j
+                for r in range(count):
+                    if abs(lam_state[q] - lam_older[r]) < near:
+                        near = abs(lam_state[q] - lam_older[r])
+                        step = lam_state[q] - lam_older[r]
+                apart = np.inf
+                for r in range(count):
+                    if r != q:
+                        apart = min(apart, abs(lam_state[q] - lam_state[r]))
+                if near < apart / 4:
+                    sigma[q] = lam_state[q] + step
+        if _hill_tracked(A21, A22, n, H, omega, lam_state, vec_state, sigma, lam_new, vec_new, centre):
             unstable = _multipliers(lam_new, period, mu_re, mu_im)
             if unstable == info[2]:
+                lam_older[:] = lam_state
                 lam_state[:] = lam_new
                 vec_state[:, :] = vec_new
                 info[1] += 1
+                info[3] = 1
                 return True, True
     ok, runner = _hill_full(A21, A22, n, H, omega, lam_new, vec_new, centre)
     unstable = _multipliers(lam_new, period, mu_re, mu_im)
     clear = ok and runner >= RUNNER_CENTRE
     for q in range(count):
         clear = clear and abs(centre[q]) <= 0.5 + COPY_SPREAD / 2
+    lam_older[:] = lam_state
+    info[3] = 1 if info[0] == 1 else 0  # the previous exponents are worth extrapolating from
     lam_state[:] = lam_new
     vec_state[:, :] = vec_new
     info[0] = 1 if clear else 0
@@ -410,11 +466,12 @@ def hill_branch(jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, l
     size = n * (2 * H + 1)
     lam_state = np.empty(2 * n, dtype=np.complex128)
     vec_state = np.empty((2 * n, size), dtype=np.complex128)
-    info = np.zeros(3, dtype=np.int64)
+    lam_older = np.empty(2 * n, dtype=np.complex128)
+    info = np.zeros(4, dtype=np.int64)
     for pt in range(lams.shape[0]):
         hill_ok[pt], tracked[pt] = _hill_step(Zs[pt], lams[pt], jac, ints, fl, E, P, ED, M, Minv, base, varying,
                                               coef, window, mu_re[pt], mu_im[pt], track, lam_state, vec_state,
-                                              info)
+                                              lam_older, info)
 
 
 @numba.njit(cache=False)
@@ -434,7 +491,8 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
     acc = np.empty(n)
     lam_state = np.empty(2 * n, dtype=np.complex128)
     vec_state = np.empty((2 * n, size), dtype=np.complex128)
-    info = np.zeros(3, dtype=np.int64)
+    lam_older = np.empty(2 * n, dtype=np.complex128)
+    info = np.zeros(4, dtype=np.int64)
     for pt in range(lams.shape[0]):
         lam = lams[pt]
         z = Zs[pt]
@@ -465,4 +523,4 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
         errors[pt] = worst / scale
         if ints[10]:
             hill_ok[pt] = _hill_step(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window,
-                                     mu_re[pt], mu_im[pt], True, lam_state, vec_state, info)[0]
+                                     mu_re[pt], mu_im[pt], True, lam_state, vec_state, lam_older, info)[0]
