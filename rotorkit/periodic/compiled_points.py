@@ -7,6 +7,30 @@ point's speed rebuilt by :func:`rotorkit.periodic.compiled.speed_frame`; the
 settings ``ints``/``fl`` are those of :mod:`rotorkit.periodic.compiled`
 (``ints[10]``: whether Hill's multipliers are computed). The glue is in
 :mod:`rotorkit.periodic.fastpath`.
+
+Hill's multipliers along a branch
+    The full method (:func:`_hill_full`) is the Python one: all
+    eigenvalues of Hill's companion matrix (:func:`~rotorkit.periodic.eigen.eigenvalues`),
+    the centre of every eigenvector, the selection. Consecutive points of a
+    branch have close exponents, so the kernel follows the previous point's
+    ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse
+    iteration on the quadratic eigenproblem from the previous exponents,
+    extrapolated, and their eigenvectors; a conjugate by conjugation), a few
+    solves of size ``n (2H + 1)`` instead of a QR iteration of twice that
+    size. It keeps a followed set only where it is the full method's
+    selection on the evidence at hand: each exponent converged to an
+    eigenvector close to its predecessor's and is its family's most centred
+    member (within ``TRACK_CENTRE`` of harmonic 0, or the more centred of it
+    and its copy one harmonic nearer, their centres about one harmonic
+    apart), the ``2n`` are distinct families (or a double eigenvalue with
+    independent eigenvectors), and the number of multipliers outside the unit
+    circle is the previous point's (a stability change is always decided by
+    the full method). Otherwise, at the first point and at least every
+    ``ANCHOR_EVERY`` points, the full method runs; following resumes only
+    from a full solve whose selection is clear-cut (the other exponents, not
+    copies of the kept ones, at least ``RUNNER_CENTRE`` off centre).
+    tests/test_periodic_hill_tracking.py compares both at every point of
+    branches through folds.
 """
 
 from __future__ import annotations
@@ -321,9 +345,14 @@ def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept):
 @numba.njit(cache=False)
 def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, vec_kept, centre_kept):
     """Hill's exponents followed from the previous point's (``lam_prev``, ``vec_prev``) by shifted inverse
-    iteration (:func:`quadratic_eigenpair`) from the shifts ``sigma`` (predicted exponents), a conjugate pair's second member by conjugation; False unless every
-    exponent converged to an eigenvector close to its predecessor's, centred within ``TRACK_CENTRE``, and the
-    ``2n`` exponents are distinct and no copies of each other (then the full method runs instead)."""
+    iteration (:func:`quadratic_eigenpair`) from the shifts ``sigma`` (predicted exponents), a conjugate pair's
+    second member by conjugation, into ``lam_kept``, ``vec_kept``, ``centre_kept``.
+
+    False (then the full method runs instead) unless every exponent converged to an eigenvector close to its
+    predecessor's (overlap ``TRACK_OVERLAP``) and is its family's most centred member (centred within
+    ``TRACK_CENTRE``, or compared with its copy one harmonic nearer the centre, as the full method compares
+    them), and the ``2n`` exponents are distinct (or a double eigenvalue with independent eigenvectors) and no
+    copies of each other."""
     size = n * (2 * H + 1)
     count = 2 * n
     u = np.empty(size, dtype=np.complex128)

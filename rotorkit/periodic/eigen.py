@@ -7,7 +7,9 @@ stabilised elementary similarity transformations and the Francis
 double-shift QR iteration (the classical EISPACK ``balanc``/``elmhes``/
 ``hqr`` sequence), eigenvalues only; an LU factorisation with partial
 pivoting (as LAPACK's ``getrf``) for the Newton steps and tangents; a complex
-LU solve for null vectors. All functions are ``numba.njit`` helpers inlined
+LU (:func:`complex_lu`) for null vectors and for one eigenpair of a quadratic
+eigenproblem near a shift by inverse iteration (:func:`quadratic_eigenpair`:
+following Hill's exponents along a branch). All functions are ``numba.njit`` helpers inlined
 into the kernels of :mod:`rotorkit.periodic.compiled`; this module imports
 numba at import time and is only imported by that path.
 """
@@ -247,29 +249,21 @@ def _hqr(a, wr, wi):
                             z = r / s
                             q /= p
                             r /= p
-                            # the reflector on rows k..k+2 and columns k..k+2 (two at the window's end),
-                            # one loop per case so that the loops carry no branch
-                            mmin = nn if nn < k + 3 else k + 3
-                            if k != nn - 1:
-                                for j in range(k, nn + 1):
-                                    p = a[k, j] + q * a[k + 1, j] + r * a[k + 2, j]
+                            for j in range(k, nn + 1):
+                                p = a[k, j] + q * a[k + 1, j]
+                                if k != nn - 1:
+                                    p += r * a[k + 2, j]
                                     a[k + 2, j] -= p * z
-                                    a[k + 1, j] -= p * y
-                                    a[k, j] -= p * x
-                                for i in range(l, mmin + 1):
-                                    p = x * a[i, k] + y * a[i, k + 1] + z * a[i, k + 2]
+                                a[k + 1, j] -= p * y
+                                a[k, j] -= p * x
+                            mmin = nn if nn < k + 3 else k + 3
+                            for i in range(l, mmin + 1):
+                                p = x * a[i, k] + y * a[i, k + 1]
+                                if k != nn - 1:
+                                    p += z * a[i, k + 2]
                                     a[i, k + 2] -= p * r
-                                    a[i, k + 1] -= p * q
-                                    a[i, k] -= p
-                            else:
-                                for j in range(k, nn + 1):
-                                    p = a[k, j] + q * a[k + 1, j]
-                                    a[k + 1, j] -= p * y
-                                    a[k, j] -= p * x
-                                for i in range(l, mmin + 1):
-                                    p = x * a[i, k] + y * a[i, k + 1]
-                                    a[i, k + 1] -= p * q
-                                    a[i, k] -= p
+                                a[i, k + 1] -= p * q
+                                a[i, k] -= p
             if not l < nn - 1:
                 break
     return True
