@@ -7,7 +7,9 @@ stabilised elementary similarity transformations and the Francis
 double-shift QR iteration (the classical EISPACK ``balanc``/``elmhes``/
 ``hqr`` sequence), eigenvalues only; an LU factorisation with partial
 pivoting (as LAPACK's ``getrf``) for the Newton steps and tangents; a complex
-LU solve for null vectors. All functions are ``numba.njit`` helpers inlined
+LU (:func:`complex_lu`) for null vectors and for one eigenpair of a quadratic
+eigenproblem near a shift by inverse iteration (:func:`quadratic_eigenpair`:
+following Hill's exponents along a branch). All functions are ``numba.njit`` helpers inlined
 into the kernels of :mod:`rotorkit.periodic.compiled`; this module imports
 numba at import time and is only imported by that path.
 """
@@ -19,7 +21,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["lu_factor", "lu_solve", "eigenvalues", "complex_null_vector"]
+__all__ = ["lu_factor", "lu_solve", "eigenvalues", "complex_lu", "complex_null_vector", "quadratic_eigenpair"]
 
 
 @numba.njit(cache=False)
@@ -283,17 +285,16 @@ def _size(c):
 
 
 @numba.njit(cache=False)
-def complex_null_vector(G, x):
-    """A vector ``x`` with ``G x ~ 0`` for a nearly singular complex ``G`` (destroyed): one inverse-iteration
-    step, ``G x = e`` (``e`` all ones) by LU with partial pivoting (pivots by ``|re| + |im|`` as LAPACK's), a
-    zero pivot replaced by a tiny one."""
+def complex_lu(G, piv):
+    """In-place LU with partial pivoting of the complex square ``G`` (pivots by ``|re| + |im|`` as LAPACK's), a
+    pivot below ``1e-17`` times the largest entry replaced by that floor (a nearly singular ``G`` is wanted
+    here: inverse iteration); solve with :func:`lu_solve`."""
     m = G.shape[0]
     big = 0.0
     for i in range(m):
         for j in range(m):
             big = max(big, _size(G[i, j]))
     floor = max(big * 1e-17, 1e-300)
-    piv = np.empty(m, dtype=np.int64)
     for k in range(m):
         p, size = k, _size(G[k, k])
         for i in range(k + 1, m):
@@ -313,6 +314,106 @@ def complex_null_vector(G, x):
             if f != 0.0:
                 for j in range(k + 1, m):
                     G[i, j] -= f * G[k, j]
+
+
+@numba.njit(cache=False)
+def complex_null_vector(G, x):
+    """A vector ``x`` with ``G x ~ 0`` for a nearly singular complex ``G`` (destroyed): one inverse-iteration
+    step, ``G x = e`` (``e`` all ones) by :func:`complex_lu` and :func:`lu_solve`."""
+    m = G.shape[0]
+    piv = np.empty(m, dtype=np.int64)
+    complex_lu(G, piv)
     for i in range(m):
         x[i] = 1.0
     lu_solve(G, piv, x, x)
+
+
+@numba.njit(cache=False)
+def _quadratic_matrix(A1, A0, s, G):
+    """``G = A0 + s A1 - s^2 I``."""
+    m = A0.shape[0]
+    for r in range(m):
+        for c in range(m):
+            G[r, c] = A0[r, c] + s * A1[r, c]
+        G[r, r] -= s * s
+
+
+@numba.njit(cache=False)
+def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
+    """The eigenpair ``(lam, u)`` of ``lam^2 u = lam A1 u + A0 u`` nearest ``sigma`` (complex; the eigenvalue of
+    the companion matrix ``[[0, I], [A0, A1]]`` nearest it) by shifted inverse iteration from the start vector
+    ``u`` (complex, replaced by the eigenvector, unit norm).
+
+    Inverse iteration on the companion matrix, each step one solve with ``A0 + s A1 - s^2 I`` (size ``m``, not
+    ``2m``); up to ``steps`` steps per shift ``s``, the shift then moved to the eigenvalue estimate (at most
+    ``max_shifts`` factorisations). Converged when two successive estimates agree to ``rtol`` times
+    ``|lam| + sqrt(||A0||) + ||A1||`` and the residual ``||(A0 + lam A1 - lam^2 I) u||`` is below
+    ``1e3 * rtol`` times ``(||A0|| + |lam| ||A1|| + |lam|^2)`` (norms: largest absolute row sums). Returns
+    ``(lam, converged)``.
+    """
+    m = A0.shape[0]
+    n0 = 0.0
+    n1 = 0.0
+    for r in range(m):
+        s0 = 0.0
+        s1 = 0.0
+        for c in range(m):
+            s0 += abs(A0[r, c])
+            s1 += abs(A1[r, c])
+        n0 = max(n0, s0)
+        n1 = max(n1, s1)
+    G = np.empty((m, m), dtype=np.complex128)
+    piv = np.empty(m, dtype=np.int64)
+    w = np.empty(m, dtype=np.complex128)
+    b = np.empty(m, dtype=np.complex128)
+    for r in range(m):
+        w[r] = sigma * u[r]
+    lam = sigma
+    estimate = sigma
+    have = False
+    for shift in range(max_shifts):
+        s = lam
+        _quadratic_matrix(A1, A0, s, G)
+        complex_lu(G, piv)
+        for step in range(steps):
+            # (C - s I) [u'; w'] = [u; w]: (A0 + s A1 - s^2 I) u' = w - (A1 - s I) u, w' = u + s u'
+            for r in range(m):
+                t = w[r] + s * u[r]
+                for c in range(m):
+                    t -= A1[r, c] * u[c]
+                b[r] = t
+            lu_solve(G, piv, b, b)
+            num = 0.0j
+            den = 0.0
+            size = 0.0
+            for r in range(m):
+                wn = u[r] + s * b[r]
+                num += u[r].conjugate() * b[r] + w[r].conjugate() * wn
+                den += u[r].real ** 2 + u[r].imag ** 2 + w[r].real ** 2 + w[r].imag ** 2
+                size += b[r].real ** 2 + b[r].imag ** 2 + wn.real ** 2 + wn.imag ** 2
+                w[r] = wn
+            if num == 0.0 or size == 0.0 or not math.isfinite(size):
+                return lam, False
+            scale = 1.0 / math.sqrt(size)
+            for r in range(m):
+                u[r] = b[r] * scale
+                w[r] *= scale
+            new = s + den / num  # 1 / theta, theta = v^H v' / v^H v
+            if have and abs(new - estimate) <= rtol * (abs(new) + math.sqrt(n0) + n1):
+                lam = new
+                # the residual of the quadratic problem at (lam, u)
+                worst = 0.0
+                for r in range(m):
+                    t = -lam * lam * u[r]
+                    for c in range(m):
+                        t += (A0[r, c] + lam * A1[r, c]) * u[c]
+                    worst = max(worst, abs(t))
+                norm = 0.0
+                for r in range(m):
+                    norm = max(norm, abs(u[r]))
+                bound = 1e3 * rtol * (n0 + abs(lam) * n1 + abs(lam) ** 2) * norm
+                return lam, worst <= bound
+            estimate = new
+            have = True
+        lam = estimate
+    return lam, False
