@@ -80,8 +80,8 @@ _TOP_KEYS = ("format", "version", "name", "description", "element", "run")
 
 
 # -- quantities ----------------------------------------------------------------
-_NUMBER_UNIT = re.compile(r"^\s*([+-]?(?:inf|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?))\s*"
-                          r"((?![eE][+-]?\d)(?:1\s*/\s*)?[A-Za-zµ°Ω][A-Za-zµ°Ω0-9_ /*^.\-]*)?\s*$")
+_NUMBER_UNIT = (r"^\s*([+-]?(?:inf|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?))\s*"
+                r"((?![eE][+-]?\d)(?:1\s*/\s*)?[A-Za-zµ°Ω][A-Za-zµ°Ω0-9_ /*^.\-]*)?\s*$")  # compiled when used
 
 
 def _fast_quantity(text):
@@ -108,7 +108,7 @@ def parse_quantity(text, name):
         return units.parse_quantity(text, name)
     if len(text) > 200:
         raise UnitError(f"{name} = {text[:40]!r}...: too long for a quantity (at most 200 characters)")
-    match = _NUMBER_UNIT.match(text)
+    match = re.match(_NUMBER_UNIT, text)
     if not match or (match.group(2) and re.search(r"\d\s*\*\*|\*\*\s*\d{3,}|\^\s*\d{3,}", match.group(2))):
         raise UnitError(f"{name} = {text!r}: expected a number, optionally followed by a unit (e.g. '0.25 m')")
     value = float(match.group(1))
