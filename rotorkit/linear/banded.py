@@ -173,8 +173,9 @@ def _size(a):
     """``|Re a| + |Im a|`` (``|a|`` if real): the entries' sizes for the norms, without complex square roots."""
     if not np.iscomplexobj(a):
         return np.abs(a)
-    a = np.ascontiguousarray(a)
-    return np.abs(a.view(a.real.dtype)).reshape(a.shape + (2,)).sum(axis=-1)
+    out = np.abs(a.real)
+    out += np.abs(a.imag)  # elementwise: not a reduction over an axis of length 2 (slow in numpy)
+    return out
 
 
 def _row_sums(bands):
@@ -190,7 +191,7 @@ def _row_sums(bands):
     size = np.empty_like(total)
     for c in range(1, width):
         total += np.abs(parts[:, c, :], out=size)
-    return total.reshape(n, m, 2).sum(axis=-1)
+    return total[:, 0::2] + total[:, 1::2]
 
 
 def _solve_unpivoted(S, lower, upper, y):
