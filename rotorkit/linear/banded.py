@@ -182,7 +182,7 @@ def _row_sums(bands):
     """``sum_c |Re| + |Im|`` of each row of each system, shape (n, m): the rows' norms for ``|A|_inf``."""
     if not np.iscomplexobj(bands):
         return np.abs(bands).sum(axis=1)
-    n, width, m = bands.shape
+    width = bands.shape[1]
     bands = np.ascontiguousarray(bands)
     # the real and imaginary parts side by side on the last axis: sum over the band first (one band at a
     # time, in order, into one accumulator: no temporary the size of all bands), then the pairs
