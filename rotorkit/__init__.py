@@ -8,13 +8,33 @@ equations with sympy, compile them and simulate.
 """
 
 import importlib
+import sys
+import types
 
 from .errors import ParameterError, RotorkitError, SimulationError, TopologyError, UnitError
-from .simulate import simulate  # eager: the function must win over the submodule of the same name
+
+
+class _Package(types.ModuleType):
+    """rotorkit's module type: ``rotorkit.simulate`` stays the function when its submodule is imported.
+
+    The import system binds every imported submodule to its package's attribute of the same name; for
+    ``rotorkit.simulate`` (the submodule) that would hide the function ``simulate``. The binding is dropped
+    here instead, so that the function can be looked up lazily like every other name (``import rotorkit``
+    and the linear analyses do not load the integration front end, its system and its dataclasses).
+    """
+
+    def __setattr__(self, name, value):
+        if name == "simulate" and isinstance(value, types.ModuleType):
+            return  # the function, resolved by __getattr__ below, keeps the name
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 #: public name -> the submodule defining it, imported on first access (PEP 562), so that
 #: ``import rotorkit`` stays cheap (numpy only): sympy, numba, scipy, pint and matplotlib load when used.
 _LAZY = {
+    "simulate": "simulate",
     **dict.fromkeys(("BallBearing", "Disk", "ElasticSupport", "LumpedMass", "Maneuver", "Rotor", "RubStator",
                      "ShaftSegment", "BeamSegment", "Material", "LinearBearing", "Pedestal", "SpeedProfile",
                      "BaseRotation", "SqueezeFilmDamper", "JournalBearing", "Rayleigh"), "elements"),

@@ -138,11 +138,12 @@ def solve_banded_last(bands, lower, upper, rhs, *, pivoting="auto"):
         x = _solve_unpivoted(np.array(bands, dtype=dtype), lower, upper, np.array(rhs, dtype=dtype))
         b, xb = _combined(rhs, dtype), _combined(x, dtype)
         residual = np.array(b, dtype=dtype)
+        product = np.empty_like(residual)  # one buffer for the products: no fresh memory per band
         for c in range(width):  # b - A x, one band at a time over all systems
             d = c - lower  # column = row + d
             lo, hi = max(0, -d), min(n, n - d)
             if lo < hi:
-                residual[lo:hi] -= bands[lo:hi, c, :] * xb[lo + d:hi + d]
+                residual[lo:hi] -= np.multiply(bands[lo:hi, c, :], xb[lo + d:hi + d], out=product[lo:hi])
         scale = _row_sums(bands).max(axis=0) * _size(xb).max(axis=0) + _size(b).max(axis=0)
         good = _size(residual).max(axis=0) <= BACKWARD_ERROR * width * np.finfo(dtype).eps * scale
     if not good.all():
@@ -172,18 +173,25 @@ def _size(a):
     """``|Re a| + |Im a|`` (``|a|`` if real): the entries' sizes for the norms, without complex square roots."""
     if not np.iscomplexobj(a):
         return np.abs(a)
-    a = np.ascontiguousarray(a)
-    return np.abs(a.view(a.real.dtype)).reshape(a.shape + (2,)).sum(axis=-1)
+    out = np.abs(a.real)
+    out += np.abs(a.imag)  # elementwise: not a reduction over an axis of length 2 (slow in numpy)
+    return out
 
 
 def _row_sums(bands):
     """``sum_c |Re| + |Im|`` of each row of each system, shape (n, m): the rows' norms for ``|A|_inf``."""
     if not np.iscomplexobj(bands):
         return np.abs(bands).sum(axis=1)
-    n, _, m = bands.shape
+    width = bands.shape[1]
     bands = np.ascontiguousarray(bands)
-    # the real and imaginary parts side by side on the last axis: sum over the band first, then the pairs
-    return np.abs(bands.view(bands.real.dtype)).sum(axis=1).reshape(n, m, 2).sum(axis=-1)
+    # the real and imaginary parts side by side on the last axis: sum over the band first (one band at a
+    # time, in order, into one accumulator: no temporary the size of all bands), then the pairs
+    parts = bands.view(bands.real.dtype)
+    total = np.abs(parts[:, 0, :])
+    size = np.empty_like(total)
+    for c in range(1, width):
+        total += np.abs(parts[:, c, :], out=size)
+    return total[:, 0::2] + total[:, 1::2]
 
 
 def _solve_unpivoted(S, lower, upper, y):
@@ -192,16 +200,20 @@ def _solve_unpivoted(S, lower, upper, y):
 
     n, _, m = S.shape
     s0, s1, s2 = S.strides
+    # buffers for the factors and products of every step, reused: no fresh memory per step
+    factors_buffer = np.empty((lower, m), dtype=S.dtype)
+    product = np.empty((lower, upper, m), dtype=S.dtype)
+    product_y = np.empty((lower,) + y.shape[1:], dtype=y.dtype)
     for j in range(n - 1):
         last = min(lower, n - 1 - j)
         if not last:
             continue
         # V[r, t] = S[j + r, lower - r + t] = A[j + r, j + t]: rows j..j+last over columns j..j+upper
         V = as_strided(S[j, lower:], shape=(last + 1, upper + 1, m), strides=(s0 - s1, s1, s2))
-        factors = V[1:, 0] / V[0, 0]
+        factors = np.divide(V[1:, 0], V[0, 0], out=factors_buffer[:last])
         if upper:
-            V[1:, 1:] -= factors[:, None, :] * V[0, 1:]
-        y[j + 1:j + 1 + last] -= factors[:, None, :] * y[j]
+            V[1:, 1:] -= np.multiply(factors[:, None, :], V[0, 1:], out=product[:last])
+        y[j + 1:j + 1 + last] -= np.multiply(factors[:, None, :], y[j], out=product_y[:last])
     return _back_substitute(S[:, lower:], upper, y)
 
 

@@ -63,10 +63,11 @@ def band_structure(*matrices):
 def _layout(model):
     """``(perm, lower, upper, names, B)`` of a linear model: its order, bands, and its matrices in band rows.
 
-    ``B`` (complex, shape (n (lower + upper + 1), k)) holds the band rows of
+    ``B`` (real, shape (n (lower + upper + 1), k)) holds the band rows of
     the k matrices among ``M, C, K, G, H`` that are not zero (``names``), one
     per column: the dynamic stiffness of many points is ``B`` times their
-    coefficients (one matrix product, see :func:`_coefficients`).
+    complex coefficients (one real matrix product on the coefficients' real
+    and imaginary parts side by side, see :func:`_coefficients`).
     """
     layout = _LAYOUTS.get(model)
     if layout is None:
@@ -78,7 +79,7 @@ def _layout(model):
         perm, lower, upper = band_structure(*matrices.values(), *(() if terms is None else (terms.pattern(),)))
         bands = {name: band_rows(A[np.ix_(perm, perm)], lower, upper).reshape(-1) for name, A in matrices.items()}
         names = tuple(name for name, b in bands.items() if b.any())
-        B = np.stack([bands[name] for name in names], axis=-1).astype(complex)
+        B = np.ascontiguousarray(np.stack([bands[name] for name in names], axis=-1), dtype=float)
         layout = perm, lower, upper, names, B
         _LAYOUTS[model] = layout
     return layout
@@ -149,7 +150,8 @@ def solve_harmonic(model, speeds, frequencies, forces, *, method="auto"):
             sl = slice(start, min(start + batch, w.size))
             W, om = speeds[sl], w[sl]
             # the dynamic stiffness in band rows, the points on the last axis: one matrix product
-            S = (B @ _coefficients(names, W, om)).reshape(n, width, om.size)
+            # (B real: its product with the real and imaginary parts of the coefficients, read as complex)
+            S = (B @ _coefficients(names, W, om).view(float)).view(complex).reshape(n, width, om.size)
             if exact is not None:
                 np.add.at(S, (term_rows, term_bands), exact[sl].T)
             y = (np.broadcast_to(Fp[..., None], Fp.shape + (om.size,)) if shared

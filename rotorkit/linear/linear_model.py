@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError
-from .whirl import station_pairs
+from .stations import station_pairs
 
 __all__ = ["LinearModel", "SpeedTerms", "linear_model"]
 

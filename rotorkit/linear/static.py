@@ -69,7 +69,7 @@ class StaticDeflection:
 
     @property
     def stations(self):
-        from .whirl import station_pairs
+        from .stations import station_pairs
 
         return tuple(s for s, _, _ in station_pairs(tuple(self.deflection)))
 

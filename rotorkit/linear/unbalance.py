@@ -24,7 +24,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .whirl import orbit
 
 __all__ = ["Unbalance", "UnbalanceResponse", "unbalance_response"]
 
@@ -109,6 +108,8 @@ class UnbalanceResponse:
     def orbit(self, station, rotor=None):
         """:class:`~rotorkit.analysis.whirl.Orbit` of ``station`` at each speed: forward/backward radii,
         semi-axes (m) and inclination (rad) of the ellipse."""
+        from .whirl import orbit
+
         return orbit(self.response(f"x{station}", rotor), self.response(f"y{station}", rotor))
 
     def _station_or_path(self, value):
@@ -164,7 +165,7 @@ class UnbalanceResponse:
             rotor = self._rotor(rotor)
             rows = [head] + [",".join(f"{v:.10g}" for v in row) for row in self._csv_rows(station, rotor, fs, fl)]
         else:
-            from .whirl import station_pairs
+            from .stations import station_pairs
 
             rows = ["rotor,station," + head]
             rotors = [self._rotor(rotor)] if rotor is not None else list(self.components)

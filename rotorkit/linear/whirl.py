@@ -25,11 +25,11 @@ the displacement orbits and the slope orbits times a reference length
 
 from __future__ import annotations
 
-import functools
-import re
 from dataclasses import dataclass
 
 import numpy as np
+
+from .stations import station_pairs, tilt_pairs  # their home; given here as before
 
 __all__ = ["Orbit", "orbit", "whirl_direction", "station_pairs", "tilt_pairs", "shape_whirl", "reference_length",
            "FORWARD", "BACKWARD", "MIXED", "LINEAR"]
@@ -113,28 +113,6 @@ def whirl_direction(forward, backward, rtol=LINEAR_RTOL):
     margin = rtol * np.maximum(f + b, np.finfo(float).tiny)
     out = np.where(f - b > margin, FORWARD, np.where(b - f > margin, BACKWARD, LINEAR))
     return str(out) if out.ndim == 0 else out
-
-
-def station_pairs(names):
-    """``[(station, i_x, i_y)]`` of the stations with both an ``x<s>`` and a ``y<s>`` coordinate, in order."""
-    return list(_axis_pairs(tuple(names), "x", "y"))
-
-
-def tilt_pairs(names):
-    """``[(station, i_thx, i_thy)]`` of the stations with both tilts ``thx<s>`` and ``thy<s>``, in order."""
-    return list(_axis_pairs(tuple(names), "thx", "thy"))
-
-
-@functools.lru_cache(maxsize=64)
-def _axis_pairs(names, first, second):
-    index = {name: i for i, name in enumerate(names)}
-    pattern = re.compile(rf"{first}(.+)")
-    out = []
-    for name in names:
-        m = pattern.fullmatch(name)
-        if m and f"{second}{m.group(1)}" in index:
-            out.append((m.group(1), index[name], index[f"{second}{m.group(1)}"]))
-    return tuple(out)
 
 
 def slope_orbit(thx, thy):
