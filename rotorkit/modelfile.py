@@ -52,7 +52,6 @@ written: use a tabulated element instead.
 import dataclasses
 import functools
 import math
-import os
 import re
 from pathlib import Path
 
@@ -236,10 +235,7 @@ def loads_model(text, *, source="<string>"):
     ctx = _Where(source)
     if len(text) > MAX_BYTES:
         raise ModelFileError(f"{source}: {len(text)} characters; a model file is at most {MAX_BYTES} bytes")
-    data = _kept_data(text)
-    if data is None:
-        data = _parse(text, source)
-        _keep_data(text, data)
+    data = _parse(text, source)
     _check_shape(data, 0, [0], "file", ctx)
     for key in data:
         if key not in _TOP_KEYS:
@@ -287,87 +283,6 @@ def _parse(text, source):
         raise ModelFileError(f"{source}: not valid TOML: {err}") from err
     except (RecursionError, ValueError, MemoryError) as err:  # absurd nesting, a 5000-digit integer
         raise ModelFileError(f"{source}: not a usable TOML file ({type(err).__name__}: {str(err)[:200]})") from err
-
-
-# -- the parsed text kept in the model cache ---------------------------------------------------------------
-# A file read before is not parsed again: its TOML data (what tomllib.loads gave) is kept as JSON in the model
-# cache, under the SHA-256 of the text and signed (HMAC-SHA256) with the cache's secret key, as
-# ``<cache>/models/modelfile-<sha256>.json`` (removed with the cache by ``rotorkit cache clear``). The data
-# is checked and built into elements exactly as parsed data is; only the parse (and the import of tomllib)
-# is saved. The cache is only used when its ``models`` folder already exists and is private (a model was
-# cached there): reading a model file never creates, repairs or warns about the cache.
-_DATA_TAG = b"rotorkit-model-file-data\0"
-
-
-def _private_folder(path):
-    try:
-        st = os.lstat(path)
-    except OSError:
-        return False
-    import stat
-
-    return (stat.S_ISDIR(st.st_mode) and (not hasattr(os, "getuid") or st.st_uid == os.getuid())
-            and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH))
-
-
-def _data_file(text):
-    """``(path of the kept data of text, signing key)``, or None when the model cache is not in use."""
-    env = os.environ.get("ROTORKIT_CACHE_DIR")  # the folder rotorkit.codegen.cache.cache_dir() uses
-    base = Path(env) if env else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rotorkit"
-    models = base / "models"
-    if not (_private_folder(base) and _private_folder(models) and os.path.isfile(base / "secret.key")):
-        return None
-    import hashlib
-
-    from .codegen.cache import secret_key
-
-    name = f"modelfile-{hashlib.sha256(text.encode('utf-8')).hexdigest()}.json"
-    return models / name, secret_key()
-
-
-def _signature(secret, payload):
-    import hashlib
-    import hmac
-
-    return hmac.new(secret, _DATA_TAG + payload, hashlib.sha256).hexdigest().encode("ascii")
-
-
-def _kept_data(text):
-    """The TOML data of ``text`` kept by an earlier read (signature verified), or None."""
-    try:
-        found = _data_file(text)
-        if found is None or not os.path.isfile(found[0]):
-            return None
-        import hmac
-        import json
-
-        from .files import read_data
-
-        blob = read_data(found[0], what="cache entry")
-        if not hmac.compare_digest(blob[:64], _signature(found[1], blob[64:])):
-            return None
-        data = json.loads(blob[64:])
-        return data if isinstance(data, dict) else None
-    except (OSError, ValueError):  # unreadable or damaged: parsed again (and kept again)
-        return None
-
-
-def _keep_data(text, data):
-    """Keep the TOML data of ``text`` for the next read, when it is plain JSON data (no dates) and the cache is in use."""
-    try:
-        found = _data_file(text)
-        if found is None:
-            return
-        import json
-
-        from .files import atomic_write_bytes
-
-        payload = json.dumps(data, separators=(",", ":"), allow_nan=False).encode("utf-8")
-        if json.loads(payload) != data:
-            return
-        atomic_write_bytes(found[0], _signature(found[1], payload) + payload, mode=0o600, durable=False)
-    except (OSError, ValueError, TypeError):  # not JSON data (a TOML date, nan), or the cache cannot be written
-        return
 
 
 def model_signals(model):

@@ -290,31 +290,3 @@ def test_model_file_without_run_table_draws_the_first_disk(tmp_path):
     scene, loaded, overrides = load_scene(args)
     assert scene.OUTPUTS == {"orbit_station": 1, "bending": "x1"} and args.preset == "two"
     assert loaded.parameters["R_speed"] == 100.0 and set(overrides) == {"R_speed"}
-
-
-def test_a_file_read_before_is_not_parsed_again_and_its_kept_data_is_verified(tmp_path, monkeypatch):
-    """The parsed TOML of a file is kept in the model cache (signed): a second read builds the same model without
-    parsing; a kept file altered by anyone but rotorkit, or no cache in use, means a parse as before."""
-    from rotorkit import modelfile
-    from rotorkit.codegen import cache
-
-    path = ROOT / "examples" / "compressor.toml"
-    folder = tmp_path / "cache"
-    monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(folder))
-    parsed = []
-    parse = modelfile._parse
-    monkeypatch.setattr(modelfile, "_parse", lambda text, source: parsed.append(source) or parse(text, source))
-    reference = rk.load_model(path)  # no cache folder yet: parsed, nothing written (none is created)
-    assert len(parsed) == 1 and not folder.exists()
-    cache.secret_key()
-    (folder / "models").mkdir(mode=0o700)
-    rk.load_model(path)  # parsed, and kept
-    kept = list((folder / "models").glob("modelfile-*.json"))
-    assert len(parsed) == 2 and len(kept) == 1 and oct(kept[0].stat().st_mode & 0o777) == "0o600"
-    again = rk.load_model(path)
-    assert len(parsed) == 2  # not parsed: the kept data
-    assert again.parameters == reference.parameters and again.structure_key == reference.structure_key
-    assert repr(again.elements) == repr(reference.elements)
-    blob = kept[0].read_bytes()
-    kept[0].write_bytes(blob.replace(b'"10000 rpm"', b'"20000 rpm"'))  # altered: its signature fails
-    assert rk.load_model(path).parameters == reference.parameters and len(parsed) == 3
