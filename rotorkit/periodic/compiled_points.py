@@ -3,7 +3,7 @@
 It repeats what the Python reference does (the truncation-error estimate of
 :mod:`rotorkit.analysis.periodic` and
 :func:`~rotorkit.periodic.stability.hill_multipliers`), with the frame at each
-point's speed rebuilt by :func:`rotorkit.periodic.compiled.speed_frame`; the
+point's speed rebuilt by :func:`rotorkit.periodic.compiled_aft.speed_frame`; the
 settings ``ints``/``fl`` are those of :mod:`rotorkit.periodic.compiled`
 (``ints[10]``: whether Hill's multipliers are computed). The glue is in
 :mod:`rotorkit.periodic.fastpath`.
@@ -40,7 +40,7 @@ import math
 import numba
 import numpy as np
 
-from .compiled import aft_states, force_scale, frame_at, local_jacobian, speed_frame
+from .compiled_aft import aft_states, force_scale, frame_at, local_jacobian, speed_frame
 from .eigen import complex_lu, complex_null_vector, eigenvalues, lu_solve, quadratic_eigenpair
 from .stability import STABILITY_TOL
 

@@ -1,0 +1,404 @@
+"""numba kernels of the compiled harmonic-balance path: the frame at a speed and the AFT evaluation.
+
+The frame at a speed (prepared parameters, the linear part, the AFT instants) rebuilt from the quadratic speed
+fit of :class:`~rotorkit.periodic.evaluate.Evaluator` (:func:`speed_frame`, :func:`frame_at`, or into a
+workspace: :func:`frame_into`); the harmonic-balance residual and its AFT Jacobian (:func:`residual`, the
+Jacobian assembled from the cosine and sine sums of the sampled force Jacobians up to harmonic ``2H``: see
+:mod:`rotorkit.periodic.compiled`); the force scale (:func:`force_scale`, :func:`force_scale_into`) and the
+contact switches at the AFT samples (:func:`switches_of`). They repeat, operation for operation, the Python
+reference (:class:`~rotorkit.periodic.hb.HarmonicBalance`); the continuation loop that calls them is
+:mod:`rotorkit.periodic.compiled`, the per-point data :mod:`rotorkit.periodic.compiled_points`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+__all__ = ["speed_frame", "frame_at", "local_jacobian", "aft_states", "workspace", "frame_into", "residual",
+           "force_scale", "switches_of", "force_scale_into"]
+
+
+@numba.njit(cache=False)
+def speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
+    """Prepared parameters ``p``, the Jacobian at rest ``A0`` (2n, 2n) and the linear operator ``L`` at speed
+    ``lam``; returns the base frequency."""
+    n, H, nu = ints[0], ints[1], ints[3]
+    for k in range(base.shape[0]):
+        p[k] = base[k]
+    s = lam / fl[0]
+    for k in range(varying.shape[0]):
+        p[varying[k]] = coef[0, k] + s * (coef[1, k] + s * coef[2, k])
+    p[p.shape[0] - 2] = window[0]
+    p[p.shape[0] - 1] = window[1]
+    A0[:, :] = 0.0
+    jac(0.0, np.zeros(2 * n), p, A0)
+    omega = lam / nu
+    L[:, :] = 0.0
+    for i in range(n):
+        for l in range(n):
+            kk = 0.0
+            cc = 0.0
+            for j in range(n):
+                kk -= M[i, j] * A0[n + j, l]
+                cc -= M[i, j] * A0[n + j, n + l]
+            L[i, l] = kk
+            for h in range(1, H + 1):
+                a, b = 2 * h - 1, 2 * h
+                kw = h * omega
+                diagonal = kk - kw * kw * M[i, l]
+                L[a * n + i, a * n + l] = diagonal
+                L[b * n + i, b * n + l] = diagonal
+                L[a * n + i, b * n + l] = kw * cc
+                L[b * n + i, a * n + l] = -kw * cc
+    return omega
+
+
+@numba.njit(cache=False)
+def frame_at(lam, jac, ints, fl, base, varying, coef, window, M, size):
+    """The frame at ``lam`` in new arrays: ``(p, A0, L, omega, period)`` (:func:`speed_frame`)."""
+    n = ints[0]
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    omega = speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+    return p, A0, L, omega, 2.0 * np.pi / omega
+
+
+@numba.njit(cache=False)
+def local_jacobian(M, Aj, A0, n, Fq, Fv):
+    """``Fq``, ``Fv`` (n, n): ``M`` times the local forces' part of the acceleration Jacobian ``Aj`` (``Aj - A0``
+    in its displacement and velocity columns); False where both are zero (no contact at this instant)."""
+    nonzero = False
+    for i in range(n):
+        for l in range(n):
+            sq = 0.0
+            sv = 0.0
+            for k in range(n):
+                sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
+                sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
+            Fq[i, l] = sq
+            Fv[i, l] = sv
+            nonzero = nonzero or sq != 0.0 or sv != 0.0  # no temporary arrays (np.any of a comparison makes two)
+    return nonzero
+
+
+@numba.njit(cache=False)
+def aft_states(z, j, omega, E, ED, n, y):
+    H2 = E.shape[1]
+    for i in range(n):
+        q = 0.0
+        v = 0.0
+        for h in range(H2):
+            q += E[j, h] * z[h * n + i]
+            v += ED[j, h] * z[h * n + i]
+        y[i] = q
+        y[n + i] = omega * v
+
+
+@numba.njit(cache=False)
+def workspace(ints, E, base):
+    """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
+    ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights)``; ``info`` holds the speed
+    of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
+    ``G``, ``S``, ``terms``, ``weights``: :func:`_projection_terms`."""
+    n, N = ints[0], ints[2]
+    H2 = E.shape[1]
+    trig = np.empty((N, 2 * H2))  # cos(m tau_j), sin(m tau_j) for m = 0 ... 2H: products of two basis functions
+    for j in range(N):
+        for m in range(H2):
+            angle = 2.0 * np.pi * ((m * j) % N) / N
+            trig[j, 2 * m] = math.cos(angle)
+            trig[j, 2 * m + 1] = math.sin(angle)
+    terms, weights = _projection_terms(H2, N)
+    return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
+            np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
+            np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights)
+
+
+@numba.njit(cache=False)
+def _projection_terms(H2, N):
+    """The AFT projection of the sampled force Jacobians, ``F_j`` (coordinates, entries ``G[j, :n n]``) and
+    ``V_j`` (velocities, ``G[j, n n:]``), from their sums ``S[2 m] = sum_j cos(m tau_j) G_j`` and
+    ``S[2 m + 1] = sum_j sin(m tau_j) G_j``, ``m = 0 ... 2H``: block ``(c, d)`` of
+    ``sum_j P[c, j] (E[j, d] F_j + w ED[j, d] V_j)`` is ``sum_t weights[c, d, t] S[terms[c, d, t]]`` (of the
+    ``F`` entries for t = 0, 1, of the ``V`` entries times ``w`` for t = 2, 3).
+
+    Basis function ``c``: ``cos(k tau)`` (c = 2k - 1, and c = 0 with k = 0) or ``sin(k tau)`` (c = 2k); a product
+    of two is half a sum of two at ``k1 - k2`` and ``k1 + k2``; ``d/dtau cos(k tau) = -k sin(k tau)``,
+    ``d/dtau sin(k tau) = k cos(k tau)``."""
+    terms = np.zeros((H2, H2, 4), dtype=np.int64)
+    weights = np.zeros((H2, H2, 4))
+    for c in range(H2):
+        tc, kc = (0, 0) if c == 0 else ((c + 1) % 2, (c + 1) // 2)
+        wc = (1.0 if c == 0 else 2.0) / N
+        for d in range(H2):
+            td, kd = (0, 0) if d == 0 else ((d + 1) % 2, (d + 1) // 2)
+            for part in range(2):  # 0: E[j, d] F_j; 1: ED[j, d] G_j
+                if part == 0:
+                    t2, factor = td, wc
+                else:
+                    if d == 0:
+                        continue
+                    t2, factor = 1 - td, (-kd if td == 0 else kd) * wc
+                diff, total = kc - kd, kc + kd
+                sign = -1.0 if diff < 0 else 1.0
+                kind = 0
+                t = 2 * part
+                if tc == 0 and t2 == 0:  # cos cos = (cos(k1 - k2) + cos(k1 + k2)) / 2
+                    terms[c, d, t], weights[c, d, t] = 2 * abs(diff) + kind, 0.5 * factor
+                    terms[c, d, t + 1], weights[c, d, t + 1] = 2 * total + kind, 0.5 * factor
+                elif tc == 1 and t2 == 1:  # sin sin = (cos(k1 - k2) - cos(k1 + k2)) / 2
+                    terms[c, d, t], weights[c, d, t] = 2 * abs(diff) + kind, 0.5 * factor
+                    terms[c, d, t + 1], weights[c, d, t + 1] = 2 * total + kind, -0.5 * factor
+                elif tc == 1:  # sin k1 cos k2 = (sin(k1 + k2) + sin(k1 - k2)) / 2
+                    terms[c, d, t], weights[c, d, t] = 2 * total + kind + 1, 0.5 * factor
+                    terms[c, d, t + 1], weights[c, d, t + 1] = 2 * abs(diff) + kind + 1, 0.5 * sign * factor
+                else:  # cos k1 sin k2 = (sin(k1 + k2) - sin(k1 - k2)) / 2
+                    terms[c, d, t], weights[c, d, t] = 2 * total + kind + 1, 0.5 * factor
+                    terms[c, d, t + 1], weights[c, d, t + 1] = 2 * abs(diff) + kind + 1, -0.5 * sign * factor
+    return terms, weights
+
+
+@numba.njit(cache=False)
+def frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws):
+    """The frame at ``lam`` into the workspace (:func:`speed_frame`'s values; ``K = -M A_q``, ``C = -M A_v``
+    instead of the whole linear operator), unless it holds it already."""
+    p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
+    if info[3] == 1.0 and info[0] == lam:
+        return
+    n, nu = ints[0], ints[3]
+    for k in range(base.shape[0]):
+        p[k] = base[k]
+    s = lam / fl[0]
+    for k in range(varying.shape[0]):
+        p[varying[k]] = coef[0, k] + s * (coef[1, k] + s * coef[2, k])
+    p[p.shape[0] - 2] = window[0]
+    p[p.shape[0] - 1] = window[1]
+    A0[:, :] = 0.0
+    jac(0.0, ws[5], p, A0)
+    for i in range(n):
+        for l in range(n):
+            kk = 0.0
+            cc = 0.0
+            for j in range(n):
+                kk -= M[i, j] * A0[n + j, l]
+                cc -= M[i, j] * A0[n + j, n + l]
+            K[i, l] = kk
+            C[i, l] = cc
+    omega = lam / nu
+    info[0] = lam
+    info[1] = omega
+    info[2] = 2.0 * np.pi / omega
+    info[3] = 1.0
+
+
+@numba.njit(cache=False)
+def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R, J):
+    """``R`` (and ``J`` if ``want``) of the harmonic balance at ``(z, lam)``; False if ``R`` is not finite.
+
+    The linear part per harmonic block; the local forces' Jacobian projected as
+    ``J[c, d] -= sum_j P[c, j] (E[j, d] Fq_j + w ED[j, d] Fv_j)``, summed from the sampled Jacobians' cosine
+    and sine sums up to harmonic 2H (a product of two basis functions is a sum of two of those)."""
+    n, H, N = ints[0], ints[1], ints[2]
+    H2 = E.shape[1]
+    size = n * H2
+    frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
+    p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
+    Y, a, g, f, Aj, G, S = ws[6], ws[7], ws[8], ws[9], ws[10], ws[11], ws[12]
+    trig, terms, weights = ws[13], ws[14], ws[15]
+    nn = n * n
+    omega, period = info[1], info[2]
+    # R = L z per block: K z_0; (K - (kw)^2 M) a_k + kw C b_k; -kw C a_k + (K - (kw)^2 M) b_k
+    for i in range(n):
+        s = 0.0
+        for l in range(n):
+            s += K[i, l] * z[l]
+        R[i] = s
+    for h in range(1, H + 1):
+        ra, rb = (2 * h - 1) * n, 2 * h * n
+        kw = h * omega
+        for i in range(n):
+            s = 0.0
+            for l in range(n):
+                s += (K[i, l] - kw * kw * M[i, l]) * z[ra + l]
+            for l in range(n):
+                s += (kw * C[i, l]) * z[rb + l]
+            R[ra + i] = s
+            s = 0.0
+            for l in range(n):
+                s += (-kw * C[i, l]) * z[ra + l]
+            for l in range(n):
+                s += (K[i, l] - kw * kw * M[i, l]) * z[rb + l]
+            R[rb + i] = s
+    if want:
+        for r in range(size):
+            for c in range(size):
+                J[r, c] = 0.0
+        for i in range(n):
+            for l in range(n):
+                J[i, l] = K[i, l]
+        for h in range(1, H + 1):
+            ra, rb = (2 * h - 1) * n, 2 * h * n
+            kw = h * omega
+            for i in range(n):
+                for l in range(n):
+                    diagonal = K[i, l] - kw * kw * M[i, l]
+                    J[ra + i, ra + l] = diagonal
+                    J[rb + i, rb + l] = diagonal
+                    J[ra + i, rb + l] = kw * C[i, l]
+                    J[rb + i, ra + l] = -kw * C[i, l]
+        for k in range(2 * H2):
+            for e in range(2 * nn):
+                S[k, e] = 0.0
+    for j in range(N):  # the states at the instants (aft_states for all of them)
+        for i in range(n):
+            q = 0.0
+            v = 0.0
+            for h in range(H2):
+                q += E[j, h] * z[h * n + i]
+                v += ED[j, h] * z[h * n + i]
+            Y[j, i] = q
+            Y[j, n + i] = omega * v
+    contact = False
+    for j in range(N):
+        t = period * j / N
+        y = Y[j]
+        for i in range(2 * n):
+            a[i] = 0.0
+        rhs(t, y, p, a)
+        for i in range(n):
+            s = a[n + i]
+            for k in range(2 * n):
+                s -= A0[n + i, k] * y[k]
+            g[i] = s
+        for i in range(n):
+            s = 0.0
+            for k in range(n):
+                s += M[i, k] * g[k]
+            f[j, i] = s
+        if want:
+            for r in range(2 * n):
+                for c in range(2 * n):
+                    Aj[r, c] = 0.0
+            jac(t, y, p, Aj)
+            here = False
+            for i in range(n):
+                for l in range(n):
+                    sq = 0.0
+                    sv = 0.0
+                    for k in range(n):
+                        sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
+                        sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
+                    G[i * n + l] = sq
+                    G[nn + i * n + l] = sv
+                    if sq != 0.0 or sv != 0.0:
+                        here = True
+            if not here:
+                continue  # the linear part alone here (no contact at this instant): nothing to project
+            contact = True
+            for k in range(2 * H2):
+                tk = trig[j, k]
+                for e in range(2 * nn):
+                    S[k, e] += tk * G[e]
+    for h in range(H2):  # R -= P f, per entry in the order of the samples
+        for i in range(n):
+            s = R[h * n + i]
+            for j in range(N):
+                s -= P[h, j] * f[j, i]
+            R[h * n + i] = s
+    if want and contact:
+        for c in range(H2):
+            for d in range(H2):
+                k0, k1, k2, k3 = terms[c, d, 0], terms[c, d, 1], terms[c, d, 2], terms[c, d, 3]
+                w0, w1, w2, w3 = weights[c, d, 0], weights[c, d, 1], weights[c, d, 2], weights[c, d, 3]
+                for i in range(n):
+                    for l in range(n):
+                        e = i * n + l
+                        J[c * n + i, d * n + l] -= ((w0 * S[k0, e] + w1 * S[k1, e])
+                                                    + omega * (w2 * S[k2, nn + e] + w3 * S[k3, nn + e]))
+    s = 0.0
+    for r in range(size):
+        s += R[r] * R[r]
+    return math.isfinite(s)
+
+
+@numba.njit(cache=False)
+def force_scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window):
+    """Largest amplitude of an oscillating harmonic of the forces at rest (N): the residual's scale."""
+    n, N = ints[0], ints[2]
+    H2 = E.shape[1]
+    size = n * H2
+    p, A0, L, omega, period = frame_at(lam, jac, ints, fl, base, varying, coef, window, M, size)
+    y = np.zeros(2 * n)
+    a = np.empty(2 * n)
+    F = np.zeros((H2, n))
+    for j in range(N):
+        a[:] = 0.0
+        rhs(period * j / N, y, p, a)
+        for i in range(n):
+            s = 0.0
+            for k in range(n):
+                s += M[i, k] * a[n + k]
+            for h in range(H2):
+                F[h, i] += P[h, j] * s
+    biggest = 0.0
+    for h in range(1, (H2 - 1) // 2 + 1):
+        for i in range(n):
+            biggest = max(biggest, math.hypot(F[2 * h - 1, i], F[2 * h, i]))
+    return biggest
+
+
+@numba.njit(cache=False)
+def switches_of(z, lam, state, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef, window):
+    """Per switch whether it is positive at some AFT sample (into ``state``); returns the largest value."""
+    n, N, ns = ints[0], ints[2], ints[4]
+    H2 = E.shape[1]
+    size = n * H2
+    p, A0, L, omega, period = frame_at(lam, jac, ints, fl, base, varying, coef, window, M, size)
+    y = np.empty(2 * n)
+    out = np.empty(max(ns, 1))
+    state[:] = False
+    biggest = -np.inf
+    for j in range(N):
+        aft_states(z, j, omega, E, ED, n, y)
+        out[:] = 0.0
+        sw(period * j / N, y, p, out)
+        for k in range(ns):
+            if out[k] > 0.0:
+                state[k] = True
+            biggest = max(biggest, out[k])
+    return biggest if ns else 0.0
+
+
+@numba.njit(cache=False)
+def force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws):
+    """:func:`force_scale` with the frame of the workspace."""
+    n, N = ints[0], ints[2]
+    H2 = E.shape[1]
+    frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
+    p, info, y, a, f = ws[0], ws[4], ws[5], ws[7], ws[9]
+    period = info[2]
+    for j in range(N):
+        for i in range(2 * n):
+            a[i] = 0.0
+        rhs(period * j / N, y, p, a)
+        for i in range(n):
+            s = 0.0
+            for k in range(n):
+                s += M[i, k] * a[n + k]
+            f[j, i] = s
+    F = np.empty((H2, n))
+    for h in range(H2):  # in the order of the samples, as force_scale
+        for i in range(n):
+            s = 0.0
+            for j in range(N):
+                s += P[h, j] * f[j, i]
+            F[h, i] = s
+    biggest = 0.0
+    for h in range(1, (H2 - 1) // 2 + 1):
+        for i in range(n):
+            biggest = max(biggest, math.hypot(F[2 * h - 1, i], F[2 * h, i]))
+    return biggest
