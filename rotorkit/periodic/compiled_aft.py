@@ -17,15 +17,14 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["speed_frame", "frame_at", "local_jacobian", "aft_states", "workspace", "frame_into", "residual",
-           "force_scale", "switches_of", "force_scale_into"]
+__all__ = ["prepared_parameters", "linear_entry", "speed_frame", "frame_at", "local_jacobian", "aft_states",
+           "workspace", "frame_into", "residual", "force_scale", "switches_of", "force_scale_into"]
 
 
 @numba.njit(cache=False)
-def speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
-    """Prepared parameters ``p``, the Jacobian at rest ``A0`` (2n, 2n) and the linear operator ``L`` at speed
-    ``lam``; returns the base frequency."""
-    n, H, nu = ints[0], ints[1], ints[3]
+def prepared_parameters(lam, fl, base, varying, coef, window, p):
+    """The prepared parameter vector at speed ``lam`` into ``p``: ``base``, the entries that vary with the speed
+    from their quadratic fit in ``lam / fl[0]``, and the time window in the last two."""
     for k in range(base.shape[0]):
         p[k] = base[k]
     s = lam / fl[0]
@@ -33,17 +32,33 @@ def speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
         p[varying[k]] = coef[0, k] + s * (coef[1, k] + s * coef[2, k])
     p[p.shape[0] - 2] = window[0]
     p[p.shape[0] - 1] = window[1]
+
+
+@numba.njit(cache=False)
+def linear_entry(M, A0, n, i, l):
+    """``(K[i, l], C[i, l])`` of the linear part at rest: ``K = -M A_q``, ``C = -M A_v`` (``A0`` the
+    acceleration Jacobian at rest, (2n, 2n))."""
+    kk = 0.0
+    cc = 0.0
+    for j in range(n):
+        kk -= M[i, j] * A0[n + j, l]
+        cc -= M[i, j] * A0[n + j, n + l]
+    return kk, cc
+
+
+@numba.njit(cache=False)
+def speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
+    """Prepared parameters ``p``, the Jacobian at rest ``A0`` (2n, 2n) and the linear operator ``L`` at speed
+    ``lam``; returns the base frequency."""
+    n, H, nu = ints[0], ints[1], ints[3]
+    prepared_parameters(lam, fl, base, varying, coef, window, p)
     A0[:, :] = 0.0
     jac(0.0, np.zeros(2 * n), p, A0)
     omega = lam / nu
     L[:, :] = 0.0
     for i in range(n):
         for l in range(n):
-            kk = 0.0
-            cc = 0.0
-            for j in range(n):
-                kk -= M[i, j] * A0[n + j, l]
-                cc -= M[i, j] * A0[n + j, n + l]
+            kk, cc = linear_entry(M, A0, n, i, l)
             L[i, l] = kk
             for h in range(1, H + 1):
                 a, b = 2 * h - 1, 2 * h
@@ -170,24 +185,12 @@ def frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws):
     if info[3] == 1.0 and info[0] == lam:
         return
     n, nu = ints[0], ints[3]
-    for k in range(base.shape[0]):
-        p[k] = base[k]
-    s = lam / fl[0]
-    for k in range(varying.shape[0]):
-        p[varying[k]] = coef[0, k] + s * (coef[1, k] + s * coef[2, k])
-    p[p.shape[0] - 2] = window[0]
-    p[p.shape[0] - 1] = window[1]
+    prepared_parameters(lam, fl, base, varying, coef, window, p)
     A0[:, :] = 0.0
     jac(0.0, ws[5], p, A0)
     for i in range(n):
         for l in range(n):
-            kk = 0.0
-            cc = 0.0
-            for j in range(n):
-                kk -= M[i, j] * A0[n + j, l]
-                cc -= M[i, j] * A0[n + j, n + l]
-            K[i, l] = kk
-            C[i, l] = cc
+            K[i, l], C[i, l] = linear_entry(M, A0, n, i, l)
     omega = lam / nu
     info[0] = lam
     info[1] = omega

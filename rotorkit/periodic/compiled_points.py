@@ -40,7 +40,7 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import aft_states, force_scale, frame_at, local_jacobian, speed_frame
+from .compiled_aft import aft_states, force_scale, frame_at, linear_entry, local_jacobian, speed_frame
 from .eigen import complex_lu, complex_null_vector, eigenvalues, lu_solve, quadratic_eigenpair
 from .stability import STABILITY_TOL
 
@@ -77,11 +77,7 @@ def _hill_matrix(z, lam, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, 
     for h in range(H2):
         for i in range(n):
             for l in range(n):
-                kk = 0.0
-                cc = 0.0
-                for j in range(n):
-                    kk -= M[i, j] * A0[n + j, l]
-                    cc -= M[i, j] * A0[n + j, n + l]
+                kk, cc = linear_entry(M, A0, n, i, l)
                 Kt[h * n + i, h * n + l] = kk
                 Ct[h * n + i, h * n + l] = cc
     # proj(F) = P diag(F_j) E block by block: P[c, j] E[j, d] is a product of two of 1, cos a t, sin a t, a sum
