@@ -54,7 +54,7 @@ class CriticalSpeedMap:
         (:func:`~rotorkit.analysis.tables.csv_output`).
         """
         from ..units import display_factor
-        from .modal import unit_slug
+        from .modal_result import unit_slug
         from .tables import csv_output
 
         f, u = display_factor(units, "speed"), unit_slug(units)

@@ -25,16 +25,21 @@ Rotors whose speed is a :class:`~rotorkit.elements.speed.SpeedProfile` are
 analysed at a frozen speed: :func:`frozen_speed_model` replaces each
 profile by the constant speed it has at a time ``t`` (or a given one), so
 that ``<rotor>_speed`` is a parameter that can be swept.
+
+The spin speeds and frozen-speed models live in
+:mod:`rotorkit.linear.rotor_speeds`, the station positions in
+:mod:`rotorkit.linear.station_positions` and the element forces at rest in
+:mod:`rotorkit.linear.element_loads`; all are importable from here.
 """
 
 from __future__ import annotations
 
-import dataclasses
-import math
-
 import numpy as np
 
 from ..errors import ParameterError
+from .element_loads import element_forces, loads_at_rest
+from .rotor_speeds import expression_namespace, frozen_speed_model, rotor_spin_speeds
+from .station_positions import shaft_edges, station_positions, walk_positions
 
 __all__ = ["shaft_edges", "walk_positions", "LinearMatrices", "linear_evaluator", "linear_matrices", "symbolic_linear_evaluator", "element_forces",
            "linear_static_deflection",
@@ -46,12 +51,6 @@ _CACHE = {}
 _CACHE_SIZE = 8
 #: up to this many coordinates the static deflection is a dense numpy solve, above it a sparse one
 DENSE_STATIC_SIZE = 1000
-
-
-def _namespace():
-    namespace = dict(vars(math))
-    namespace.update({"max": max, "min": min, "abs": abs})
-    return namespace
 
 
 def _scalar_rows(function, arrays):
@@ -364,7 +363,7 @@ def symbolic_linear_evaluator(model, t=0.0, values=None, free=()):
                          np.array([k[1] for k, _ in moving], dtype=np.int64)))
         lines += [printer.doprint(v) for _, v in moving]
     body = "".join(f"        ({line}),\n" for line in lines)
-    namespace = _namespace()
+    namespace = expression_namespace()
     exec(compile(f"def _entries(p):\n    return [\n{body}    ]\n", "<rotorkit linear matrices>", "exec"), namespace)
     return LinearMatrices(len(qs), tuple(free), constant, variable, namespace["_entries"])
 
@@ -434,77 +433,6 @@ def linear_matrices(model, t=0.0, values=None, *, modal_damping=True):
     return None if evaluator is None else evaluator()
 
 
-def element_forces(model, q, t=0.0, values=None, elements=None):
-    """Force each element exerts on the coordinates at rest at ``q``, from the cached linear matrices.
-
-    ``F_e(q) = F_e(0) - K_e q`` with zero velocities, ``K_e`` the element's
-    own stiffness (cross-coupled part included) and ``F_e(0)`` its force at
-    rest (gravity on its mass, a preload); disk eccentricities count as 0.
-
-    Parameters
-    ----------
-    model : rotorkit.Model
-        Rotors with constant speeds.
-    q : array_like, shape (n,)
-        Coordinates (m, rad) in ``model.coordinate_names`` order.
-    t : float
-        Time (s).
-    values : dict, optional
-        Parameter name -> value (SI), default ``model.parameters``.
-    elements : sequence of Element, optional
-        The elements wanted (default all).
-
-    Returns
-    -------
-    dict or None
-        Element label -> ``{coordinate name: force (N, N m)}`` (nonzero
-        entries only), or None if the model is not linear.
-    """
-    from ..codegen.linear_cache import linear_module, template_function
-
-    module = linear_module(model)
-    if not module.LINEAR:
-        return None
-    values = model.parameters if values is None else values
-    names = module.PARAMETERS
-    p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in names]
-    q = np.asarray(q, dtype=float)
-    coordinate_names = tuple(model.coordinate_names)
-    wanted = None if elements is None else {e.label() for e in elements}
-    out = {}
-    for template, params, coords, label in module.ELEMENTS:
-        if wanted is not None and label not in wanted:
-            continue
-        matrix, lrows, lcols = module.TEMPLATES[template][:3]
-        load_rows, load_exprs = module.TEMPLATES[template][6:8]
-        a = [p[k] for k in params]
-        force = np.zeros(len(coords))
-        if load_exprs:
-            force[list(load_rows)] += template_function(module, template, loads=True)(a, float(t))
-        stiff = [e for e, w in enumerate(matrix) if w == 2]
-        if stiff:
-            vals = template_function(module, template, tuple(stiff))(a, float(t))
-            for e, v in zip(stiff, vals):
-                force[lrows[e]] -= v * q[coords[lcols[e]]]
-        forces = {coordinate_names[c]: float(f) for c, f in zip(coords, force) if f != 0.0}
-        if forces:
-            out[label] = forces
-    return out
-
-
-def _loads_at_rest(module, p, t):
-    """Sum of every element's force at rest (N, N m), shape (n,)."""
-    from ..codegen.linear_cache import template_function
-
-    F = np.zeros(int(module.N_COORDINATES))
-    for template, params, coords, _ in module.ELEMENTS:
-        load_rows, load_exprs = module.TEMPLATES[template][6:8]
-        if load_exprs:
-            values = template_function(module, template, loads=True)([p[k] for k in params], t)
-            np.add.at(F, np.asarray(coords)[list(load_rows)], values)
-    return F
-
-
 def linear_static_deflection(model, t=0.0, values=None):
     """Coordinates at rest under the static loads of a linear model, ``K q = F(0)``, or None if it is not linear.
 
@@ -534,7 +462,7 @@ def linear_static_deflection(model, t=0.0, values=None):
     values = model.parameters if values is None else values
     evaluator = linear_evaluator(model, t, values)
     p = [0.0 if name.endswith("_eccentricity") else float(values[name]) for name in module.PARAMETERS]
-    F = _loads_at_rest(module, p, float(t))
+    F = loads_at_rest(module, p, float(t))
     if not np.any(F):
         return np.zeros(F.size)
     if evaluator.n <= DENSE_STATIC_SIZE:  # dense LU in numpy: no scipy import for an everyday rotor
@@ -557,123 +485,6 @@ def linear_static_deflection(model, t=0.0, values=None):
         raise ParameterError(f"static deflection of {model.name!r}: the stiffness matrix is singular; a rotor may "
                              "have no stiffness path to a support")
     return q
-
-
-def _profile_speed(rotor, t):
-    """A profile rotor's speed (rad/s) at time ``t`` (a driven rotor's: its initial speed)."""
-    import sympy as sp
-
-    if rotor.drive is not None:
-        return rotor.drive.initial_speed
-
-    from ..codegen.printer import RhsPrinter
-
-    profile = rotor.profile
-    ts = sp.Symbol("t", real=True)
-    p = {k: sp.Float(v) for k, v in profile.values().items()}
-    code = RhsPrinter().doprint(profile.speed(ts, p).xreplace({ts: sp.Float(float(t))}))
-    return float(eval(code, {"__builtins__": {}}, _namespace()))
-
-
-def rotor_spin_speeds(model, t=0.0, values=None):
-    """Rotor name -> spin speed (rad/s) at time ``t`` (profiles evaluated there, ratios applied)."""
-    values = model.parameters if values is None else values
-    rotors = model.rotors
-    out = {}
-    for name in rotors:
-        factor, r = 1.0, rotors[name]
-        while r.speed is None:
-            factor *= values[f"{r.name}_speed_ratio"]
-            r = rotors[r.reference]
-        if r.drive is not None:
-            out[name] = factor * values[f"{r.name}_speed_initial"]
-            continue
-        out[name] = factor * (_profile_speed(r, t) if r.profile is not None else values[f"{r.name}_speed"])
-    return out
-
-
-def frozen_speed_model(model, t=0.0, speeds=None):
-    """``model`` with every speed-profile rotor turned into a constant-speed one (itself if there is none).
-
-    A rotor whose speed is a :class:`~rotorkit.elements.drive.Drive` (a
-    degree of freedom) is frozen at its ``initial_speed``: the linear
-    analyses hold the spin constant.
-
-    Parameters
-    ----------
-    model : rotorkit.Model
-    t : float
-        Time (s) at which each profile gives its speed.
-    speeds : dict, optional
-        Rotor name -> speed (rad/s) to use instead of the profile's at ``t``.
-
-    Raises
-    ------
-    ParameterError
-        If ``speeds`` names a rotor without a speed profile.
-    """
-    speeds = dict(speeds or {})
-    profiles = {name: r for name, r in model.rotors.items() if r.profile is not None or r.drive is not None}
-    unknown = set(speeds) - set(profiles)
-    if unknown:
-        raise ParameterError(
-            f"speeds={speeds!r}: {sorted(unknown)} have no speed profile; expected rotors among "
-            f"{sorted(profiles) or 'none'} (set the speed of a constant-speed rotor with <rotor>_speed)")
-    if not profiles:
-        return model
-    elements = []
-    for e in model.elements:
-        if e.owned_stations() and e.label() in profiles:
-            value = speeds.get(e.label())
-            value = _profile_speed(e, t) if value is None else float(value)
-            e = dataclasses.replace(e, speed=value)
-        elements.append(e)
-    return type(model)(elements, name=model.name)
-
-
-def station_positions(model):
-    """Station -> axial position (m) along each rotor from its beam and shaft lengths, or None.
-
-    Each rotor's first station is at 0; a beam segment's nodes are equally
-    spaced over its length. Stations no length reaches are left out.
-    """
-    edges = shaft_edges(model)
-    if not edges:
-        return None
-    positions = {}
-    for station in map(str, model.stations):
-        if station not in positions and station in edges:
-            positions[station] = 0.0
-            walk_positions(station, edges, positions)
-    return positions
-
-
-def shaft_edges(model):
-    """Station (str) -> ``[(neighbour, signed length m)]`` of every beam or shaft segment with a length."""
-    edges = {}
-    for e in model.elements:
-        length = getattr(e, "length", None)
-        if length is None or not hasattr(e, "start") or not hasattr(e, "end"):
-            continue
-        nodes = e.nodes() if hasattr(e, "nodes") else (e.start, e.end)
-        step = float(length) / (len(nodes) - 1)
-        for a, b in zip(nodes, nodes[1:]):
-            edges.setdefault(str(a), []).append((str(b), step))
-            edges.setdefault(str(b), []).append((str(a), -step))
-    return edges
-
-
-def walk_positions(start, edges, positions):
-    """Place every station reachable from ``start`` (already in ``positions``) along ``edges``; the list of them."""
-    stack, reached = [start], []
-    while stack:
-        a = stack.pop()
-        for b, step in edges.get(a, ()):
-            if b not in positions:
-                positions[b] = positions[a] + step
-                reached.append(b)
-                stack.append(b)
-    return reached
 
 
 def modal_damping_spec(model):

@@ -349,7 +349,7 @@ def frozen_system(system, speed_parameter=None, speed=None, t=0.0, who="linear_m
     its speed at ``t`` (``speed`` instead, if it is the swept rotor), so that
     its ``<rotor>_speed`` becomes a parameter that can be swept.
     """
-    from .linear_matrices import frozen_speed_model
+    from .rotor_speeds import frozen_speed_model
 
     model = getattr(system, "model", system)
     available = _speed_parameters(model)
@@ -410,7 +410,9 @@ def linear_model(system, *, speed_parameter=None, speed=None, speed_step=None, t
         first-order model for speed-dependent bearings (re-linearise far
         from ``W0``).
     """
-    from .linear_matrices import linear_evaluator, rotor_spin_speeds, station_positions
+    from .linear_matrices import linear_evaluator
+    from .rotor_speeds import rotor_spin_speeds
+    from .station_positions import station_positions
 
     if not (hasattr(system, "compile") and hasattr(system, "equations")):
         from .linearize import check_system

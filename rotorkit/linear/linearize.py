@@ -108,7 +108,7 @@ def _coordinate_jacobian(system, t, q, steps):
 
 def _rotor_speeds(system, t=0.0):
     """Rotor name -> spin speed (rad/s) at time ``t`` (a speed profile evaluated there)."""
-    from .linear_matrices import rotor_spin_speeds
+    from .rotor_speeds import rotor_spin_speeds
 
     return rotor_spin_speeds(system.model, t, system.parameters)
 

@@ -116,7 +116,7 @@ class MatchedWhirl:
 
     def table(self, units="rad/s"):
         """A text table: mode, matched frequency, damping ratio, log decrement, iterations, converged."""
-        from .modal import frequency_factor
+        from .modal_result import frequency_factor
 
         factor = frequency_factor(units)
         lines = [f"{'mode':>4} {'frequency [' + units + ']':>20} {'damping ratio':>14} {'log dec':>10} "
@@ -289,7 +289,7 @@ class MatchedWhirlCampbell:
         """Frequencies against speed, one line per mode rank, both in ``units``; the Line2D objects."""
         import matplotlib.pyplot as plt
 
-        from .modal import frequency_factor
+        from .modal_result import frequency_factor
 
         ax = plt.gca() if ax is None else ax
         factor = frequency_factor(units)

@@ -158,7 +158,7 @@ def with_modal_damping(eom, model):
 
     import sympy as sp
 
-    from .linear_matrices import frozen_speed_model
+    from .rotor_speeds import frozen_speed_model
 
     linear = set(frozen_speed_model(model).coordinate_names)
     damped = [i for i, q in enumerate(eom.coordinates) if str(q) in linear]
@@ -184,7 +184,7 @@ def runtime_values(model, names, coordinate_names):
     (speed profiles and drives frozen at ``t = 0``, every rotor at rest);
     ``coordinate_names`` are the system's, which ``i``, ``j`` index.
     """
-    from .linear_matrices import frozen_speed_model
+    from .rotor_speeds import frozen_speed_model
 
     frozen = frozen_speed_model(model)
     C = model_modal_damping(frozen, frozen.parameters, 0.0)
@@ -205,7 +205,7 @@ def coordinate_damping_matrix(model, coordinate_names):
     driven rotor's spin angle) are zero. Used by the energy balance for the
     power ``-q' . C q'`` this damping takes out.
     """
-    from .linear_matrices import frozen_speed_model
+    from .rotor_speeds import frozen_speed_model
 
     if modal_damping_spec(model) is None:
         return None
@@ -234,7 +234,8 @@ def modal_state_term(system, t=0.0):
     """
     from scipy.linalg import solve
 
-    from .linear_matrices import frozen_speed_model, linear_matrices
+    from .linear_matrices import linear_matrices
+    from .rotor_speeds import frozen_speed_model
 
     model = system.model
     if modal_damping_spec(model) is None or getattr(system, "modal_damping", False):

@@ -202,7 +202,8 @@ def static_deflection(system, t=0.0, **equilibrium):
     (-981.0, 19.62)
     """
     from ..units import to_si
-    from .linear_matrices import element_forces, linear_static_deflection
+    from .element_loads import element_forces
+    from .linear_matrices import linear_static_deflection
 
     t = to_si(t, "s", "t")
     q = None
@@ -225,7 +226,7 @@ def static_deflection(system, t=0.0, **equilibrium):
     if reactions is None:
         reactions = _symbolic_reactions(system, model, holding, q, t)
     from ..plotting.rotor import rotor_layout  # plain numbers: no matplotlib
-    from .linear_matrices import station_positions
+    from .station_positions import station_positions
 
     return StaticDeflection(deflection=dict(zip(names, (float(v) for v in q))), reactions=reactions, t=float(t),
                             station_positions=station_positions(model), layout=rotor_layout(model))

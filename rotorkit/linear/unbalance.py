@@ -152,7 +152,7 @@ class UnbalanceResponse:
             with ``rotor`` and ``station`` columns first.
         """
         from ..units import display_factor
-        from .modal import unit_slug
+        from .modal_result import unit_slug
         from .tables import csv_output
 
         given, path = self._station_or_path(path)
