@@ -16,32 +16,11 @@ contributed as a generalised load ``-K_a d - C_a d'`` (listed under the
 bearing in ``equations().forces``). Their sum is exactly ``-K d - C d'``.
 
 Tabulated coefficients (:meth:`LinearBearing.tabulated`,
-:meth:`LinearBearing.from_csv`) are interpolated in the speed of the rotor
-of ``station``: ``interpolation="linear"`` (piecewise linear, the default)
-or ``"pchip"`` (monotone cubic, as ``scipy.interpolate.PchipInterpolator``
-and ROSS); outside the table ``extrapolation="hold"`` (default) keeps the
-end values and ``"linear"`` continues along the end slopes (see
-:mod:`rotorkit.symbolic.tables`). The table entries are
-parameters ``<label>_speed<i>``, ``<label>_kxx<i>``, ...; a rotor whose speed
-follows a :class:`~rotorkit.elements.speed.SpeedProfile` sees the
-coefficients change along the run.
-
-Coefficients against the whirl frequency (``frequencies=``, rad/s, with or
-without ``speeds``): a table ``kxx[j]`` per frequency, or a grid
-``kxx[i][j]`` (speed ``i``, frequency ``j``), the same interpolation and
-extrapolation along each axis (tensor product: each speed row interpolated
-in the frequency first, then the rows in the speed; bilinear for
-``"linear"``). The table is read at the frequency ::
-
-    nu = whirl_ratio * Omega + whirl_frequency
-
-two parameters of the bearing: ``whirl=None`` (default) gives ``whirl_ratio =
-1``, ``whirl_frequency = 0``, the synchronous frequency of an unbalance
-response; ``whirl=<value>`` a fixed frequency (``whirl_ratio = 0``). The
-modal analysis that reads each mode's coefficients at that mode's own
-frequency is :func:`rotorkit.linear.matched_whirl.matched_whirl_modes`.
-The grid entries are parameters ``<label>_frequency<j>``,
-``<label>_kxx<i>_<j>`` (``<label>_kxx<j>`` without speeds).
+:meth:`LinearBearing.frequency_table`, :meth:`LinearBearing.from_csv`) against
+the rotor speed, the whirl frequency or both, their interpolation, parameter
+names and CSV form: :mod:`rotorkit.elements.bearing_tables`. The modal
+analysis that reads each mode's coefficients at that mode's own frequency is
+:func:`rotorkit.linear.matched_whirl.matched_whirl_modes`.
 
 Moment (tilt) coefficients ``ktxx, ktxy, ktyx, ktyy`` (N m/rad) and
 ``ctxx, ctxy, ctyx, ctyy`` (N m s/rad) act on the tilts ``(thx, thy)`` the
@@ -62,14 +41,14 @@ displacement minus the pedestal's (``px<station>``, ``py<station>``).
 """
 
 import dataclasses
-import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import ParameterError, TopologyError
 from .base import Element, loaded_types
+from .bearing_tables import (EXTRAPOLATIONS, INTERPOLATIONS, WHIRL_PARAMETERS, check_tables, interpolated_coefficient,
+                             read_csv_table, replace_entries, split_entry, table_parameters, write_csv_table)
 from .rotor import check_station
-from .tabulated import check_table
 
 __all__ = ["LinearBearing"]
 
@@ -81,10 +60,6 @@ _TILT = _TILT_STIFF + _TILT_DAMP
 _MASS = ("mxx", "mxy", "myx", "myy")
 DIRECT_COEFFICIENTS = ("kxx", "kyy", "cxx", "cyy", "ktxx", "ktyy", "ctxx", "ctyy", "mxx", "myy")
 _COEFFS = _STIFF + _DAMP + _TILT + _MASS
-_WHIRL = ("whirl_ratio", "whirl_frequency")
-_ENTRY = re.compile(r"([a-z]+?)(\d+)(?:_(\d+))?")
-INTERPOLATIONS = ("linear", "pchip")
-EXTRAPOLATIONS = ("hold", "linear")
 _PEDESTAL = "pedestal_"
 
 if TYPE_CHECKING:  # for the annotation only: the module loads when a bearing has a pedestal
@@ -252,83 +227,21 @@ class LinearBearing(Element):
         >>> b.speeds[1], b.kyy
         (314.1592653589793, (12000000.0, 25000000.0))
         """
-        from ..units import to_si
-
-        import csv
-
-        who = f"LinearBearing.from_csv({str(path)!r})"
-        with open(path, newline="") as handle:
-            rows = [row for row in csv.reader(handle) if row and any(c.strip() for c in row)
-                    and not row[0].lstrip().startswith("#")]
-        if len(rows) < 3:
-            raise ParameterError(f"{who}: expected a header and at least two rows of numbers, got {len(rows)} rows")
-        columns = []
-        for text in rows[0]:
-            match = re.fullmatch(r"\s*([A-Za-z_]\w*)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", text)
-            key = match.group(1).lower() if match else text.strip()
-            key = {"speeds": "speed", "frequencies": "frequency"}.get(key, key)
-            if not match or (key not in ("speed", "frequency") and key not in _COEFFS):
-                raise ParameterError(f"{who}: column {text.strip()!r}: expected 'speed' or a coefficient "
-                                     f"({', '.join(_COEFFS)}) or 'frequency', optionally with a unit in brackets, "
-                                     "e.g. 'kxx [N/m]'")
-            columns.append((key, match.group(2)))
-        keys = [k for k, _ in columns]
-        if "speed" not in keys and "frequency" not in keys:
-            raise ParameterError(f"{who}: no 'speed' column (nor 'frequency'); the header is {rows[0]!r}")
-        table = {key: [] for key, _ in columns}
-        for line, row in enumerate(rows[1:], start=2):
-            if len(row) != len(columns):
-                raise ParameterError(f"{who}: data row {line - 1} has {len(row)} values, expected {len(columns)}")
-            for (key, unit), text in zip(columns, row):
-                si = "rad/s" if key in ("speed", "frequency") else cls._units[key][0]
-                try:
-                    value = float(text)
-                except ValueError:
-                    raise ParameterError(f"{who}: data row {line - 1}, column {key!r}: {text.strip()!r} is not a "
-                                         "number") from None
-                table[key].append(to_si(f"{value!r} {unit}", si, f"{who} {key}") if unit else value)
-        if "frequency" not in table:
-            speeds = table.pop("speed")
+        speeds, frequencies, table = read_csv_table(path, {f: cls._units[f][0] for f in _COEFFS},
+                                                    f"LinearBearing.from_csv({str(path)!r})")
+        if frequencies is None:
             return cls.tabulated(station=station, speeds=speeds, **table, **options)
-        frequencies = table.pop("frequency")
-        if "speed" not in table:
+        if speeds is None:
             return cls.frequency_table(station=station, frequencies=frequencies, **table, **options)
-        speeds = table.pop("speed")  # one row per (speed, frequency) pair of a full grid, in any order
-        axis_s, axis_f = sorted(set(speeds)), sorted(set(frequencies))
-        cells = {}
-        for k, pair in enumerate(zip(speeds, frequencies)):
-            if pair in cells:
-                raise ParameterError(f"{who}: speed {pair[0]!r} and frequency {pair[1]!r} appear twice (data rows "
-                                     f"{cells[pair] + 1} and {k + 1})")
-            cells[pair] = k
-        missing = [(w, f) for w in axis_s for f in axis_f if (w, f) not in cells]
-        if missing:
-            raise ParameterError(f"{who}: a table against speed and frequency needs every pair; missing speed "
-                                 f"{missing[0][0]!r} with frequency {missing[0][1]!r} ({len(missing)} pairs missing)")
-        grid = {key: [[values[cells[(w, f)]] for f in axis_f] for w in axis_s] for key, values in table.items()}
-        return cls.frequency_table(station=station, speeds=axis_s, frequencies=axis_f, **grid, **options)
+        return cls.frequency_table(station=station, speeds=speeds, frequencies=frequencies, **table, **options)
 
     def to_csv(self, path):
         """Write the table (SI units in the header) for :meth:`from_csv`; a grid one row per (speed, frequency)."""
         if not self._tabulated():
             raise ParameterError(f"{type(self).__name__} {self.label()!r}: to_csv needs a table (speeds=... or "
                                  "frequencies=...)")
-        present = self._present()
-        axes = ((["speed [rad/s]"] if self.speeds is not None else [])
-                + (["frequency [rad/s]"] if self.frequencies is not None else []))
-        if self._grid():
-            rows = [([w, f], [getattr(self, c)[i][j] for c in present]) for i, w in enumerate(self.speeds)
-                    for j, f in enumerate(self.frequencies)]
-        else:
-            xs = self.speeds if self.speeds is not None else self.frequencies
-            rows = [([x], [getattr(self, c)[i] for c in present]) for i, x in enumerate(xs)]
-        import csv
-
-        with open(path, "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(axes + [f"{f} [{self._units[f][0]}]" for f in present])
-            for head, values in rows:
-                writer.writerow([repr(v) for v in head + values])
+        write_csv_table(path, self.speeds, self.frequencies, self._tables(),
+                        {f: self._units[f][0] for f in self._present()})
 
     def _who(self):
         return f"{type(self).__name__} at station {self.station!r}"
@@ -356,23 +269,8 @@ class LinearBearing(Element):
             tables[f] = values
             object.__setattr__(self, f, None)  # hidden from the scalar unit checks
         Element.__post_init__(self)
-        axes = {}
-        for axis in ("speeds", "frequencies"):
-            if getattr(self, axis) is not None:
-                axes[axis] = check_table(getattr(self, axis), axis, axis, getattr(self, axis), unit_x="rad/s",
-                                         unit_y="rad/s", owner=who)[0]
-        speeds, frequencies = axes.get("speeds"), axes.get("frequencies")
-        for f, values in tables.items():
-            unit = self._units[f][0]
-            if speeds is None or frequencies is None:
-                name, xs = ("speeds", speeds) if frequencies is None else ("frequencies", frequencies)
-                tables[f] = check_table(xs, name, f, values, unit_x="rad/s", unit_y=unit, owner=who)[1]
-                continue
-            if isinstance(values, (str, bytes)) or not hasattr(values, "__len__") or len(values) != len(speeds):
-                raise ParameterError(f"{who}: {f} = {values!r}: expected {len(speeds)} rows (one per speed) of "
-                                     f"{len(frequencies)} values (one per frequency)")
-            tables[f] = tuple(check_table(frequencies, "frequencies", f"{f}[{i}]", row, unit_x="rad/s", unit_y=unit,
-                                          owner=who)[1] for i, row in enumerate(values))
+        speeds, frequencies, tables = check_tables(self.speeds, self.frequencies, tables,
+                                                   {f: self._units[f][0] for f in tables}, who)
         object.__setattr__(self, "speeds", speeds)
         object.__setattr__(self, "frequencies", frequencies)
         if self.whirl is not None:
@@ -442,6 +340,10 @@ class LinearBearing(Element):
     def _present(self):
         return [f for f in _COEFFS if getattr(self, f) is not None]
 
+    def _tables(self):
+        """Coefficient -> its table, for the coefficients given (a table bearing)."""
+        return {f: getattr(self, f) for f in self._present()}
+
     def _tilted(self):
         return any(getattr(self, f) is not None for f in _TILT)
 
@@ -449,39 +351,19 @@ class LinearBearing(Element):
         if not self._tabulated():
             out = Element.parameters(self)
         else:
-            out = {}
-            if self.speeds is not None:
-                out.update({f"speed{i}": v for i, v in enumerate(self.speeds)})
-            if self.frequencies is not None:
-                out.update({f"frequency{j}": v for j, v in enumerate(self.frequencies)})
-                out["whirl_ratio"] = 1.0 if self.whirl is None else 0.0
-                out["whirl_frequency"] = 0.0 if self.whirl is None else self.whirl
-            for f in self._present():
-                values = getattr(self, f)
-                if self._grid():
-                    out.update({f"{f}{i}_{j}": v for i, row in enumerate(values) for j, v in enumerate(row)})
-                else:
-                    out.update({f"{f}{i}": v for i, v in enumerate(values)})
+            out = table_parameters(self.speeds, self.frequencies, self.whirl, self._tables())
         if self.pedestal is not None:
             out.update({_PEDESTAL + f: v for f, v in self.pedestal.parameters().items()})
         return out
 
-    def _split(self, field_name):
-        """``"kxx3"`` -> ``("kxx", 3, None)``, ``"kxx3_1"`` -> ``("kxx", 3, 1)`` (speed row, frequency column)."""
-        match = _ENTRY.fullmatch(field_name)
-        if match is None:
-            return field_name, None, None
-        j = match.group(3)
-        return match.group(1), int(match.group(2)), None if j is None else int(j)
-
     def unit_of(self, field_name):
         if field_name.startswith(_PEDESTAL):
             return self.pedestal.unit_of(field_name[len(_PEDESTAL):])
-        if field_name in _WHIRL:
+        if field_name in WHIRL_PARAMETERS:
             return "" if field_name == "whirl_ratio" else "rad/s"
         if not self._tabulated() or field_name in self._units:
             return Element.unit_of(self, field_name)
-        base = self._split(field_name)[0]
+        base = split_entry(field_name)[0]
         return "rad/s" if base in ("speed", "frequency") else self._units[base][0]
 
     def parameter_units(self):
@@ -494,8 +376,8 @@ class LinearBearing(Element):
             return Pedestal._units[field_name[len(_PEDESTAL):]][1]
         if not self._tabulated():
             return Element.parameter_sign(self, field_name)
-        base = self._split(field_name)[0]
-        return None if base in ("speed", "frequency") or field_name in _WHIRL else self._units[base][1]
+        base = split_entry(field_name)[0]
+        return None if base in ("speed", "frequency") or field_name in WHIRL_PARAMETERS else self._units[base][1]
 
     def replace_parameters(self, **fields):
         pedestal = self.pedestal
@@ -505,33 +387,10 @@ class LinearBearing(Element):
             pedestal = pedestal.replace(**mine)
         if not self._tabulated():
             return dataclasses.replace(self, pedestal=pedestal, **own)
-        tables = {f: [list(r) for r in getattr(self, f)] if self._grid() else list(getattr(self, f))
-                  for f in self._present()}
-        axes = {"speed": None if self.speeds is None else list(self.speeds),
-                "frequency": None if self.frequencies is None else list(self.frequencies)}
-        whirl = {"whirl_ratio": 1.0 if self.whirl is None else 0.0,
-                 "whirl_frequency": 0.0 if self.whirl is None else self.whirl}
-        for name, value in own.items():
-            if name in _WHIRL:
-                whirl[name] = value
-                continue
-            base, i, j = self._split(name)
-            if base in axes:
-                axes[base][i] = value
-            elif j is None:
-                tables[base][i] = value
-            else:
-                tables[base][i][j] = value
-        if whirl["whirl_ratio"] == 0.0:
-            fixed = whirl["whirl_frequency"]
-        elif whirl["whirl_ratio"] == 1.0 and whirl["whirl_frequency"] == 0.0:
-            fixed = None
-        else:
-            raise ParameterError(f"{self._who()}: whirl_ratio = {whirl['whirl_ratio']!r} with whirl_frequency = "
-                                 f"{whirl['whirl_frequency']!r}: expected whirl_ratio 1 with whirl_frequency 0 "
-                                 "(synchronous) or whirl_ratio 0 (a fixed frequency)")
+        speeds, frequencies, whirl, tables = replace_entries(self.speeds, self.frequencies, self.whirl,
+                                                             self._tables(), own, self._who())
         return type(self)(station=self.station, other_station=self.other_station, name=self.name,
-                          speeds=axes["speed"], frequencies=axes["frequency"], whirl=fixed, pedestal=pedestal,
+                          speeds=speeds, frequencies=frequencies, whirl=whirl, pedestal=pedestal,
                           interpolation=self.interpolation, extrapolation=self.extrapolation, **tables)
 
     def structure(self):
@@ -608,25 +467,14 @@ class LinearBearing(Element):
         """Coefficient ``f`` as an expression (0 if absent): a symbol, or the table at the rotor speed."""
         import sympy as sp
 
-        from ..symbolic.tables import interpolate_table
-
         if getattr(self, f) is None:
             return sp.S.Zero
         if not self._tabulated():
             return ctx.p[f]
-        how = (self.interpolation, self.extrapolation)
-        speed = ctx.speed(self.station)
-        if self.frequencies is None:
-            n = len(self.speeds)
-            return interpolate_table(speed, [ctx.p[f"speed{i}"] for i in range(n)],
-                                     [ctx.p[f"{f}{i}"] for i in range(n)], *how)
-        nu = ctx.p["whirl_ratio"] * speed + ctx.p["whirl_frequency"]
-        freqs = [ctx.p[f"frequency{j}"] for j in range(len(self.frequencies))]
-        if self.speeds is None:
-            return interpolate_table(nu, freqs, [ctx.p[f"{f}{j}"] for j in range(len(freqs))], *how)
-        rows = [interpolate_table(nu, freqs, [ctx.p[f"{f}{i}_{j}"] for j in range(len(freqs))], *how)
-                for i in range(len(self.speeds))]  # each speed row at the frequency, then across the speeds
-        return interpolate_table(speed, [ctx.p[f"speed{i}"] for i in range(len(rows))], rows, *how)
+        return interpolated_coefficient(ctx.p, f, ctx.speed(self.station),
+                                        None if self.speeds is None else len(self.speeds),
+                                        None if self.frequencies is None else len(self.frequencies),
+                                        self.interpolation, self.extrapolation)
 
     def _pair(self, ctx, axes, housing_axes, stiff, damp, mass=None):
         """(V, D, loads, T) of ``F = -K d - C d' - M_a d''`` on the journal's ``axes`` against the housing's."""
