@@ -28,10 +28,9 @@ def plot_critical_speed_map(cmap, ax=None, *, units="rpm", show_backward=False):
     f = display_factor(units, "speed")
     ax = new_axes(ax, figsize=(6.0, 4.5))
     for j in range(cmap.speeds.shape[1]):
-        if not np.any(np.isfinite(cmap.speeds[:, j])):
-            continue  # no critical speed of this order in the range: no empty legend entry
-        ax.loglog(cmap.stiffnesses, cmap.speeds[:, j] * f, "-", color=f"C{j % 10}", lw=1.4,
-                  label=f"critical speed {j + 1}")
+        if np.any(np.isfinite(cmap.speeds[:, j])):  # none of this order in the range: no empty legend entry
+            ax.loglog(cmap.stiffnesses, cmap.speeds[:, j] * f, "-", color=f"C{j % 10}", lw=1.4,
+                      label=f"critical speed {j + 1}")
         if show_backward:
             ax.loglog(cmap.stiffnesses, cmap.backward[:, j] * f, "--", color=f"C{j % 10}", lw=1.0)
     # one shade per bearing, one line style per direction ("<bearing> kxx", "<bearing> kyy")
