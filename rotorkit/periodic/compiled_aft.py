@@ -4,7 +4,7 @@ The frame at a speed (prepared parameters, the linear part, the AFT instants) re
 fit of :class:`~rotorkit.periodic.evaluate.Evaluator` (:func:`speed_frame`, :func:`frame_at`, or into a
 workspace: :func:`frame_into`); the harmonic-balance residual and its AFT Jacobian (:func:`residual`, the
 Jacobian assembled from the cosine and sine sums of the sampled force Jacobians up to harmonic ``2H``: see
-:mod:`rotorkit.periodic.compiled`); the force scale (:func:`force_scale`, :func:`force_scale_into`) and the
+:mod:`rotorkit.periodic.compiled`); the force scale (:func:`scale_at_rest`, :func:`force_scale_into`) and the
 contact switches at the AFT samples (:func:`switches_of`). They repeat, operation for operation, the Python
 reference (:class:`~rotorkit.periodic.hb.HarmonicBalance`); the continuation loop that calls them is
 :mod:`rotorkit.periodic.compiled`, the per-point data :mod:`rotorkit.periodic.compiled_points`.
@@ -17,8 +17,8 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["prepared_parameters", "linear_entry", "speed_frame", "frame_at", "local_jacobian", "aft_states",
-           "workspace", "frame_into", "residual", "force_scale", "switches_of", "force_scale_into"]
+__all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "local_jacobian",
+           "aft_states", "workspace", "frame_into", "residual", "scale_at_rest", "switches_of", "force_scale_into"]
 
 
 @numba.njit(cache=False)
@@ -47,6 +47,25 @@ def linear_entry(M, A0, n, i, l):
 
 
 @numba.njit(cache=False)
+def linear_blocks(K, C, M, omega, H, n, L):
+    """The linear part of the harmonic balance into the zeroed ``L`` (n (2H + 1) square): ``K`` for the mean,
+    and per harmonic ``h`` the block ``[[K - (h w)^2 M, h w C], [-h w C, K - (h w)^2 M]]``."""
+    for i in range(n):
+        for l in range(n):
+            L[i, l] = K[i, l]
+    for h in range(1, H + 1):
+        ra, rb = (2 * h - 1) * n, 2 * h * n
+        kw = h * omega
+        for i in range(n):
+            for l in range(n):
+                diagonal = K[i, l] - kw * kw * M[i, l]
+                L[ra + i, ra + l] = diagonal
+                L[rb + i, rb + l] = diagonal
+                L[ra + i, rb + l] = kw * C[i, l]
+                L[rb + i, ra + l] = -kw * C[i, l]
+
+
+@numba.njit(cache=False)
 def speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
     """Prepared parameters ``p``, the Jacobian at rest ``A0`` (2n, 2n) and the linear operator ``L`` at speed
     ``lam``; returns the base frequency."""
@@ -55,19 +74,13 @@ def speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L):
     A0[:, :] = 0.0
     jac(0.0, np.zeros(2 * n), p, A0)
     omega = lam / nu
-    L[:, :] = 0.0
+    K = np.empty((n, n))
+    C = np.empty((n, n))
     for i in range(n):
         for l in range(n):
-            kk, cc = linear_entry(M, A0, n, i, l)
-            L[i, l] = kk
-            for h in range(1, H + 1):
-                a, b = 2 * h - 1, 2 * h
-                kw = h * omega
-                diagonal = kk - kw * kw * M[i, l]
-                L[a * n + i, a * n + l] = diagonal
-                L[b * n + i, b * n + l] = diagonal
-                L[a * n + i, b * n + l] = kw * cc
-                L[b * n + i, a * n + l] = -kw * cc
+            K[i, l], C[i, l] = linear_entry(M, A0, n, i, l)
+    L[:, :] = 0.0
+    linear_blocks(K, C, M, omega, H, n, L)
     return omega
 
 
@@ -213,6 +226,7 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
     Y, a, g, f, Aj, G, S = ws[6], ws[7], ws[8], ws[9], ws[10], ws[11], ws[12]
     trig, terms, weights = ws[13], ws[14], ws[15]
     nn = n * n
+    Gq, Gv = G[:nn].reshape((n, n)), G[nn:].reshape((n, n))  # views: G is (Fq, Fv) of one instant, flat
     omega, period = info[1], info[2]
     # R = L z per block: K z_0; (K - (kw)^2 M) a_k + kw C b_k; -kw C a_k + (K - (kw)^2 M) b_k
     for i in range(n):
@@ -240,31 +254,12 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
         for r in range(size):
             for c in range(size):
                 J[r, c] = 0.0
-        for i in range(n):
-            for l in range(n):
-                J[i, l] = K[i, l]
-        for h in range(1, H + 1):
-            ra, rb = (2 * h - 1) * n, 2 * h * n
-            kw = h * omega
-            for i in range(n):
-                for l in range(n):
-                    diagonal = K[i, l] - kw * kw * M[i, l]
-                    J[ra + i, ra + l] = diagonal
-                    J[rb + i, rb + l] = diagonal
-                    J[ra + i, rb + l] = kw * C[i, l]
-                    J[rb + i, ra + l] = -kw * C[i, l]
+        linear_blocks(K, C, M, omega, H, n, J)
         for k in range(2 * H2):
             for e in range(2 * nn):
                 S[k, e] = 0.0
-    for j in range(N):  # the states at the instants (aft_states for all of them)
-        for i in range(n):
-            q = 0.0
-            v = 0.0
-            for h in range(H2):
-                q += E[j, h] * z[h * n + i]
-                v += ED[j, h] * z[h * n + i]
-            Y[j, i] = q
-            Y[j, n + i] = omega * v
+    for j in range(N):  # the states at all instants first
+        aft_states(z, j, omega, E, ED, n, Y[j])
     contact = False
     for j in range(N):
         t = period * j / N
@@ -287,19 +282,7 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
                 for c in range(2 * n):
                     Aj[r, c] = 0.0
             jac(t, y, p, Aj)
-            here = False
-            for i in range(n):
-                for l in range(n):
-                    sq = 0.0
-                    sv = 0.0
-                    for k in range(n):
-                        sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
-                        sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
-                    G[i * n + l] = sq
-                    G[nn + i * n + l] = sv
-                    if sq != 0.0 or sv != 0.0:
-                        here = True
-            if not here:
+            if not local_jacobian(M, Aj, A0, n, Gq, Gv):
                 continue  # the linear part alone here (no contact at this instant): nothing to project
             contact = True
             for k in range(2 * H2):
@@ -329,32 +312,6 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
 
 
 @numba.njit(cache=False)
-def force_scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window):
-    """Largest amplitude of an oscillating harmonic of the forces at rest (N): the residual's scale."""
-    n, N = ints[0], ints[2]
-    H2 = E.shape[1]
-    size = n * H2
-    p, A0, L, omega, period = frame_at(lam, jac, ints, fl, base, varying, coef, window, M, size)
-    y = np.zeros(2 * n)
-    a = np.empty(2 * n)
-    F = np.zeros((H2, n))
-    for j in range(N):
-        a[:] = 0.0
-        rhs(period * j / N, y, p, a)
-        for i in range(n):
-            s = 0.0
-            for k in range(n):
-                s += M[i, k] * a[n + k]
-            for h in range(H2):
-                F[h, i] += P[h, j] * s
-    biggest = 0.0
-    for h in range(1, (H2 - 1) // 2 + 1):
-        for i in range(n):
-            biggest = max(biggest, math.hypot(F[2 * h - 1, i], F[2 * h, i]))
-    return biggest
-
-
-@numba.njit(cache=False)
 def switches_of(z, lam, state, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef, window):
     """Per switch whether it is positive at some AFT sample (into ``state``); returns the largest value."""
     n, N, ns = ints[0], ints[2], ints[4]
@@ -377,13 +334,11 @@ def switches_of(z, lam, state, rhs, jac, sw, ints, fl, E, ED, M, base, varying, 
 
 
 @numba.njit(cache=False)
-def force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws):
-    """:func:`force_scale` with the frame of the workspace."""
-    n, N = ints[0], ints[2]
-    H2 = E.shape[1]
-    frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
-    p, info, y, a, f = ws[0], ws[4], ws[5], ws[7], ws[9]
-    period = info[2]
+def scale_at_rest(rhs, p, period, n, N, M, P, y, a, f):
+    """Largest amplitude of an oscillating harmonic of the forces at rest (N), the residual's scale: the forces
+    ``M a`` at the zero state ``y`` on the ``N`` AFT instants of ``period`` (prepared parameters ``p``; work
+    arrays ``a`` (2n), ``f`` (N, n)), projected in the order of the samples."""
+    H2 = P.shape[0]
     for j in range(N):
         for i in range(2 * n):
             a[i] = 0.0
@@ -394,7 +349,7 @@ def force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, wind
                 s += M[i, k] * a[n + k]
             f[j, i] = s
     F = np.empty((H2, n))
-    for h in range(H2):  # in the order of the samples, as force_scale
+    for h in range(H2):
         for i in range(n):
             s = 0.0
             for j in range(N):
@@ -405,3 +360,11 @@ def force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, wind
         for i in range(n):
             biggest = max(biggest, math.hypot(F[2 * h - 1, i], F[2 * h, i]))
     return biggest
+
+
+@numba.njit(cache=False)
+def force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws):
+    """:func:`scale_at_rest` at ``lam`` with the frame of the workspace."""
+    frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
+    p, info = ws[0], ws[4]
+    return scale_at_rest(rhs, p, info[2], ints[0], ints[2], M, P, ws[5], ws[7], ws[9])

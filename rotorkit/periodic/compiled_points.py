@@ -40,7 +40,7 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import aft_states, force_scale, frame_at, linear_entry, local_jacobian, speed_frame
+from .compiled_aft import aft_states, frame_at, linear_entry, local_jacobian, scale_at_rest, speed_frame
 from .eigen import complex_lu, complex_null_vector, eigenvalues, lu_solve, quadratic_eigenpair
 from .stability import STABILITY_TOL
 
@@ -514,6 +514,7 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
     y = np.empty(2 * n)
     a = np.empty(2 * n)
     acc = np.empty(n)
+    rest, rest_f = np.zeros(2 * n), np.empty((ints[2], n))  # the state at rest, the forces there per instant
     lam_state = np.empty(2 * n, dtype=np.complex128)
     vec_state = np.empty((2 * n, size), dtype=np.complex128)
     lam_older = np.empty(2 * n, dtype=np.complex128)
@@ -522,7 +523,7 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
         lam = lams[pt]
         z = Zs[pt]
         omega = speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
-        scale = force_scale(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window)
+        scale = scale_at_rest(rhs, p, 2.0 * np.pi / omega, n, ints[2], M, P, rest, a, rest_f)  # this frame's
         worst = 0.0
         for j in range(G):
             t = 2.0 * np.pi * j / (G * omega)
