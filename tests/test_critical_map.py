@@ -50,3 +50,32 @@ def test_synchronous_is_refused_where_it_does_not_apply():
         rk.critical_speed_map(lin, (1,), [1.0], (0.0, 10.0), method="synchronous")
     with pytest.raises(ParameterError, match="method='nope'"):
         rk.critical_speed_map(lin, (1,), [1.0], (0.0, 10.0), method="nope")
+
+
+def test_map_plot_legend_names_only_drawn_curves_and_tells_bearings_apart():
+    """No legend entry for a critical speed order with none in the range; each bearing its own shade (kxx
+    dotted, kyy dash-dot); with show_backward an order's backward speeds are drawn even where its forward
+    ones are all outside the range."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rotorkit.linear.critical_map import CriticalSpeedMap
+
+    k = np.logspace(6, 8, 5)
+    forward = np.column_stack([np.sqrt(k / 2.0), np.full(k.size, np.nan)])  # order 2: none in the range
+    backward = np.column_stack([np.sqrt(k / 3.0), np.sqrt(k / 1.5)])
+    curves = {f"{b} {d}": (np.array([1.0, 2e3]), np.array([2e6, 3e6])) for b in ("brg3", "brg18") for d in
+              ("kxx", "kyy")}
+    cmap = CriticalSpeedMap(stiffnesses=k, speeds=forward, backward=backward, supports=("3", "18"),
+                            bearing_curves=curves)
+    ax = cmap.plot(show_backward=True)
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert "critical speed 1" in labels and "critical speed 2" not in labels
+    drawn = [line.get_ydata() for line in ax.get_lines() if line.get_linestyle() == "--"]
+    assert len(drawn) == 2  # both backward orders, the second although its forward column is all NaN
+    style = {line.get_label(): (line.get_color(), line.get_linestyle()) for line in ax.get_lines()}
+    assert style["brg3 kxx"][0] == style["brg3 kyy"][0] != style["brg18 kxx"][0] == style["brg18 kyy"][0]
+    assert style["brg3 kxx"][1] == ":" and style["brg3 kyy"][1] == "-."
+    plt.close("all")
