@@ -66,6 +66,8 @@ def test_audit_writes_a_self_contained_report(report):
     assert "probe amplitude" in stdout and "close clearance at st. 16" in stdout
     assert f"rotorkit {rotorkit.__version__}" in text
     assert ("PASS" in text) or ("FAIL" in text)
+    # the per-impeller Wachel inputs as the user wrote them, not a Python list
+    assert "1.5 MW, 1.5 MW, 1.4 MW, 1.3 MW" in text and "['1.5 MW'" not in text
 
 
 @pytest.mark.slow
@@ -162,6 +164,7 @@ def test_compressor_audit_inputs_against_the_model_file(compressor_audit):
     mass = sum(e.mass_value() for e in model.elements if type(e).__name__ == "BeamSegment")
     mass += sum(e.mass for e in model.elements if type(e).__name__ == "Disk")
     assert sum(audit.journal_loads.values()) == pytest.approx(mass, rel=1e-9)
+    assert audit.critical_map.supports == ("3", "18")  # in station order (not sorted as text: "18" < "3")
     # the bearing curves drawn on the map are the file's kxx, kyy tables (piecewise linear in rad/s)
     table = [0, 400, 800, 1200, 1600]
     speeds, kxx = audit.critical_map.bearing_curves["linearbearing3 kxx"]

@@ -102,7 +102,7 @@ def undamped_critical_map(model, linear, bearings, top_speed, *, points=25, n_cr
     if direct.size == 0:
         raise ParameterError("audit: the bearings have no positive direct stiffness to map critical speeds against")
     stiffnesses = np.logspace(np.log10(direct.min()) - decades[0], np.log10(direct.max()) + decades[1], points)
-    supports = sorted(set(bearings.values()), key=lambda s: (0, s, "") if isinstance(s, int) else (1, 0, str(s)))
+    supports = sorted(set(bearings.values()), key=lambda s: (0, int(s), "") if str(s).isdigit() else (1, 0, str(s)))
     return critical_speed_map(free, supports, stiffnesses, (1e-3 * top_speed, top_speed),
                               n_critical=n_critical, bearing_curves=curves)
 
