@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import interrupts
 from .errors import ParameterError, SimulationError
 from .memory import available_memory as _available_memory  # a module global: tests patch it here
 from .system import COMPILED_BACKENDS
@@ -420,7 +421,10 @@ def simulate(system, t_span, *, y0=None, method="DOP853", rtol=1e-6, atol=1e-9, 
     count = [0]
 
     def tick(t, every=20000):
-        """Progress after every ``every`` calls (scipy: per step; compiled: per piece, ``every=1``)."""
+        """Progress after every ``every`` calls (scipy: per step; compiled: per piece, ``every=1``); a Ctrl-C
+        that other code swallowed is raised again here (:mod:`rotorkit.interrupts`)."""
+        if interrupts.received:
+            raise KeyboardInterrupt
         count[0] += 1
         if report is not None and count[0] % every == 0:
             report((t - t0) / (t1 - t0), t)

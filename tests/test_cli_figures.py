@@ -149,7 +149,7 @@ def gone(pid, timeout=10.0):
 @pytest.mark.parametrize("to", ["terminal", "run only"])
 def test_ctrl_c_stops_the_run_and_its_helper(tmp_path, to):
     """Ctrl-C reaches the run and its helper (the terminal's process group); a SIGINT to the run alone stops
-    the helper too. Interrupted while the model is derived (an empty cache: seconds)."""
+    the helper too. Interrupted early: while the model is derived (an empty cache: seconds), or just after."""
     env = dict(os.environ, PYTHONPATH=str(ROOT), ROTORKIT_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg")
     env.pop(figures_module.PROCESS_VARIABLE, None)
     run = subprocess.Popen([sys.executable, "-m", "rotorkit.cli", "run", "al31f", "--backend", "python",
@@ -169,10 +169,16 @@ def test_ctrl_c_stops_the_run_and_its_helper(tmp_path, to):
         else:
             os.kill(run.pid, signal.SIGINT)
         _, err = run.communicate(timeout=60)
-        assert run.returncode == 130 and "rotorkit: interrupted" in err
+        # stopped in whichever phase the signal lands: before the integration (exit 130; or killed by SIGINT, which
+        # a shell also shows as 130: under ``python -m`` CPython exits so after a KeyboardInterrupt went through
+        # exec'd code, such as a dataclass's generated methods being imported), or in it (exit 2, partial kept)
+        if "interrupted (Ctrl-C) at t = " in err:
+            assert run.returncode == 2, err
+        else:
+            assert run.returncode in (130, -signal.SIGINT) and "rotorkit: interrupted" in err, err
         assert "Traceback" not in err
         assert gone(helpers[0])
-        assert not (tmp_path / "out").exists()
+        assert not (tmp_path / "out" / "manifest.json").exists()  # no finished output folder
     finally:
         if run.poll() is None:
             os.killpg(run.pid, signal.SIGKILL)

@@ -29,6 +29,9 @@ def build_parser():
 
 def main(argv=None):
     """Entry point of the ``rotorkit`` command: returns 0, or 2 on a usage or input error (130 on Ctrl-C)."""
+    from ..interrupts import install
+
+    install()  # Ctrl-C swallowed by other code is raised again at the next checkpoint (rotorkit.interrupts)
     try:
         return _main(argv)
     except KeyboardInterrupt:  # also while the commands are still being imported

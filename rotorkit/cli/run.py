@@ -78,7 +78,9 @@ def _run(args, start, helper):
     if "convergence" in stats:
         print(f"convergence check: {stats['convergence']['message']}")
     from ..files import write_folder
+    from ..interrupts import check
 
+    check()  # a Ctrl-C swallowed since the run ended: stop before writing
     try:
         written = write_folder(out, lambda folder: write_outputs(result, outputs, folder, measurement,
                                                                  figures=not args.no_figures, helper=helper))
