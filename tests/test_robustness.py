@@ -11,6 +11,7 @@ import importlib
 
 simulate_module = importlib.import_module("rotorkit.simulate")
 from rotorkit.errors import ParameterError
+from rotorkit import run_checks
 
 
 def jeffcott(mass=1.0, speed=50.0):
@@ -36,15 +37,15 @@ def test_tolerances_that_cannot_give_an_answer_are_refused(system, options, matc
 
 
 def test_loosest_accepted_tolerances_still_run(system):
-    result = rk.simulate(system, (0.0, 0.01), rtol=simulate_module.MAX_RTOL, atol=simulate_module.MAX_ATOL)
+    result = rk.simulate(system, (0.0, 0.01), rtol=run_checks.MAX_RTOL, atol=run_checks.MAX_ATOL)
     assert result.stats["success"] and np.abs(result.y).max() < simulate_module.DIVERGED
 
 
 def test_memory_is_estimated_before_allocating(system, monkeypatch):
     n = system.n_states
-    need = simulate_module.sample_memory(n, 10.0, 1e7)
+    need = run_checks.sample_memory(n, 10.0, 1e7)
     assert need == 2 * 8 * (n + 1) * (10**8 + 2)  # (states + time) x samples x float64, twice
-    monkeypatch.setattr(simulate_module, "_available_memory", lambda: 2 * need - 1)  # half of it is < need
+    monkeypatch.setattr(run_checks, "_available_memory", lambda: 2 * need - 1)  # half of it is < need
     with pytest.raises(ParameterError, match=r"needs about 8 GB .*lower sample_rate to [\d.e+]+ Hz"):
         rk.simulate(system, (0.0, 10.0), sample_rate=1e7)
 
