@@ -402,13 +402,13 @@ def test_bad_arguments_raise_the_numba_loops_errors(c, changes, match):
     with pytest.raises(ParameterError, match=re.escape(match)) as caught:
         _call(rk_c.integrate, c["decay1"], changes)
     try:
-        import numba  # noqa: F401
+        import numba
     except ImportError:
         return
     from rotorkit.engines import rk_numba
 
     with pytest.raises(ParameterError) as expected:
-        _call(rk_numba.integrate, rk_numba.njit(lambda t, y, p, d: None), changes)
+        _call(rk_numba.integrate, numba.njit(lambda t, y, p, d: None), changes)
     assert str(caught.value) == str(expected.value)
 
 
