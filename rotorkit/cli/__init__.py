@@ -29,11 +29,11 @@ def build_parser():
 
 def main(argv=None):
     """Entry point of the ``rotorkit`` command: returns 0, or 2 on a usage or input error (130 on Ctrl-C)."""
-    from ..interrupts import install
+    from ..interrupts import watching
 
-    install()  # Ctrl-C swallowed by other code is raised again at the next checkpoint (rotorkit.interrupts)
     try:
-        return _main(argv)
+        with watching():  # a Ctrl-C that other code swallowed is raised again at the next checkpoint
+            return _main(argv)
     except KeyboardInterrupt:  # also while the commands are still being imported
         print("rotorkit: interrupted", file=sys.stderr)
         return 130
