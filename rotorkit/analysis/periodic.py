@@ -85,8 +85,10 @@ def _range(system, name, values, what):
         raise ParameterError(f"{what}={values!r} is invalid: expected finite values")
     if start == stop:
         raise ParameterError(f"{what}=({start:g}, {stop:g}) has zero width: expected start != stop")
+    current = system.parameters.get(name)
     for v in (start, stop):
-        system.with_parameters(**{name: v})  # the element checks its value (sign, range)
+        if v != current:  # the element checks its value (sign, range); the current one it has checked
+            system.model.with_values(**{name: v})
     return start, stop
 
 
@@ -184,7 +186,7 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
         Newton does not converge at ``values[0]``.
     """
     from ..periodic.continuation import ContinuationOptions, ContinuationProblem, continue_branch
-    from ..periodic.hb import DEFAULT_TOLERANCE, newton_from_linear
+    from ..periodic.hb import DEFAULT_TOLERANCE
 
     system = _system(model_or_system, backend)
     speed_parameter = _speed_parameter(system, speed_parameter)
@@ -201,18 +203,31 @@ def continuation(model_or_system, parameter, values, *, speed_parameter=None, ha
     hb = _harmonic_balance(system, condense, speed_parameter=speed_parameter, harmonics=harmonics,
                            subharmonic=subharmonic, samples=samples)
     problem = ContinuationProblem(hb, parameter)
-    frame = problem.frame(lo)
-    z0 = np.zeros(hb.size) if start is None else _start(start, hb)
-    try:
-        z0 = newton_from_linear(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol,
-                                scale=frame.scale, max_iterations=50, what=f"the solution at {parameter}={lo:g}")[0]
-    except ConvergenceError as exc:
-        raise ConvergenceError(f"{exc}; give start=... coefficients near a solution, or start the range where the "
-                               "response is nearly linear", residual=exc.residual, parameter=lo) from None
+    z0 = _start_solution(problem, np.zeros(hb.size) if start is None else _start(start, hb), lo, tol)
     scale = _linear_scale(problem, lo, hi) if amplitude_scale is None else _positive(amplitude_scale,
                                                                                       "amplitude_scale")
     points = continue_branch(problem, z0, lo, (lo, hi), z_scale=scale, options=options, progress=progress)
     return _branch(problem, points, stability)
+
+
+def _start_solution(problem, z0, lam, tol):
+    """The solution at ``parameter = lam`` from ``z0``: Newton (:func:`~rotorkit.periodic.hb.newton`, by the
+    compiled kernel where :mod:`rotorkit.periodic.fastpath` applies: the same iteration), else, or if it does not
+    converge, :func:`~rotorkit.periodic.hb.newton_from_linear`'s Newton and homotopy."""
+    from ..periodic.fastpath import solve_compiled
+    from ..periodic.hb import newton_from_linear
+
+    found = solve_compiled(problem, z0, lam, tol=tol, max_iterations=50)
+    if found is not None and found[1] and np.all(np.isfinite(found[0])):
+        return found[0]
+    hb, frame = problem.hb, problem.frame(lam)
+    try:
+        return newton_from_linear(lambda z, jac: hb.residual(z, frame, jacobian=jac), z0, tol=tol,
+                                  scale=frame.scale, max_iterations=50,
+                                  what=f"the solution at {problem.parameter}={lam:g}")[0]
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{exc}; give start=... coefficients near a solution, or start the range where the "
+                               "response is nearly linear", residual=exc.residual, parameter=lam) from None
 
 
 #: ``condense="auto"`` condenses models with at least this many coordinates

@@ -130,7 +130,7 @@ def _new_setup(problem):
     if not (math.isfinite(speed) and speed > 0.0):
         return None
     p = np.array([parameters[name] for name in names], dtype=float)
-    fit = evaluator._fit(p, names.index(hb.speed_parameter))
+    fit = _speed_fit(evaluator, module, p, names.index(hb.speed_parameter))
     if fit is False:
         return None
     merged = dict(parameters)
@@ -143,6 +143,22 @@ def _new_setup(problem):
     switches = numba_function(module, "switches") if hasattr(module, "switches") else _no_switches()
     functions = (numba_function(module, "rhs"), numba_function(module, "jac"), switches)
     return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
+
+
+_FITS = {}
+
+
+def _speed_fit(evaluator, module, p, slot):
+    """The evaluator's quadratic speed fit of the prepared parameters at ``p`` (five ``prepare`` calls), kept
+    per generated module and parameter values (a few): a new branch of the same model (a new harmonic balance,
+    a new evaluator) reuses it. The fit depends on nothing else."""
+    key = (id(module), p.tobytes(), slot)
+    found = _FITS.get(key)
+    if found is None or found[0] is not module:
+        if len(_FITS) >= 16:
+            _FITS.pop(next(iter(_FITS)))
+        found = _FITS[key] = (module, evaluator._fit(p, slot))
+    return found[1]
 
 
 _ADDRESSED = {}

@@ -142,12 +142,17 @@ def turning_point(lam, Z, i):
     j = j[:3] if abs(lam[j[1]] - farther) < abs(lam[j[-2]] - farther) or len(j) == 3 else j[1:]
     width = float(np.ptp(lam)) or 1.0
     size = float(np.max(np.abs(Z))) or 1.0
-    steps = [np.sqrt(np.sum(((Z[b] - Z[a]) / size) ** 2) + ((lam[b] - lam[a]) / width) ** 2)
-             for a, b in zip(j, j[1:])]
-    s = np.concatenate([[0.0], np.cumsum(steps)])
-    a, b, c = np.polyfit(s, lam[j], 2)
-    if a == 0.0:
+    l0, l1, l2 = (float(lam[k]) for k in j)
+    h1, h2 = (math.sqrt(float(np.sum(((Z[b] - Z[a]) / size) ** 2)) + ((lam[b] - lam[a]) / width) ** 2)
+              for a, b in zip(j, j[1:]))
+    # the parabola through (0, l0), (h1, l1), (h1 + h2, l2) by divided differences: l0 + d1 s + a s (s - h1)
+    if h1 == 0.0 or h2 == 0.0:
         return float(farther)
-    vertex = c - b * b / (4.0 * a)
-    low, high = min(lam[j]), max(lam[j])
+    d1, d2 = (l1 - l0) / h1, (l2 - l1) / h2
+    a = (d2 - d1) / (h1 + h2)
+    if a == 0.0 or not math.isfinite(a):
+        return float(farther)
+    b = d1 - a * h1  # l(s) = l0 + b s + a s^2
+    vertex = l0 - b * b / (4.0 * a)
+    low, high = min(l0, l1, l2), max(l0, l1, l2)
     return float(vertex) if low - (high - low) <= vertex <= high + (high - low) else float(farther)
