@@ -3,8 +3,11 @@
 The unknowns ``u = (z / z_s, lambda / l_s)`` are scaled (``z_s`` a typical
 amplitude in m or rad, ``l_s`` the width of the parameter range). From a
 solution ``u_0`` with unit tangent ``t_0`` a step of length ``h`` predicts
-``u_0 + h t_0``; the corrector solves ``R(u) = 0`` on the hyperplane through
-the prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`).
+``u_0 + h t_0``; the corrector solves ``R(u) = 0`` on the hyperplane through the
+prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`
+with its ``lazy_jacobian``: a trial point's Jacobian is evaluated only where
+another step follows, and the tangent at the corrected point is taken with
+the last one evaluated, as ``dR/dlambda`` is the one at the prediction).
 The step grows by 1.5 after an easy correction (<= 3 iterations), shrinks
 after a hard one, and halves after a failure, down to ``min_step``. A
 corrected point farther than ``h`` from its prediction counts as a failure
@@ -27,7 +30,7 @@ of the other piece is taken from the Jacobian at the prediction (the
 analytic Jacobian there is the other side's), oriented so that it moves
 into the other side as ``t_0`` did, and the step is tried along it.
 
-The derivative of the residual with respect to the parameter is a central
+The derivative of the residual with respect to the parameter is a forward
 difference (the parameter enters through the base frequency, the forcing
 and the matrices); the Jacobian with respect to the unknowns is the
 analytic AFT one.
@@ -220,8 +223,8 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
             return F, np.vstack([np.hstack([Jz * z_scale, column]), scale * t[None, :]])
 
         u, iterations, norm, J = newton(fun, u_pred, tol=opts.tol, scale=scale, max_iterations=opts.max_iterations,
-                                        what="continuation corrector")
-        return u, iterations, norm, J[:-1]
+                                        what="continuation corrector", lazy_jacobian=True)
+        return u, iterations, norm, J
 
     u0 = np.append(z0 / z_scale, lam0 / l_scale)
     direction = 1.0 if stop >= start else -1.0
@@ -239,9 +242,10 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
             return out
         accepted = None
         try:
-            u1, iterations, norm, A1 = correct(u0 + h * t0, t0)
-            if np.linalg.norm(u1 - (u0 + h * t0)) <= h:
-                t1 = tangent(A1, t0)
+            u_pred = u0 + h * t0
+            u1, iterations, norm, J1 = correct(u_pred, t0)
+            if np.linalg.norm(u1 - u_pred) <= h:
+                t1 = _corrected_tangent(J1)
                 if float(t1 @ t0) > 0.7 or h <= 4.0 * opts.min_step:
                     accepted = (u1, t1, iterations, norm, False)
         except (ConvergenceError, np.linalg.LinAlgError):
@@ -281,6 +285,14 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
         h = min(opts.max_step, h * 1.5) if iterations <= 3 else (h * 0.6 if iterations >= 7 else h)
 
 
+def _corrected_tangent(J):
+    """The unit tangent at a corrected point from the corrector's Newton matrix ``J = [A; s t^T]`` (``A`` the
+    residual's Jacobian rows as the corrector last evaluated them, ``s > 0`` the residual scale, ``t`` the
+    step's tangent): ``J^-1 [0; 1]`` normalised, which solves ``[A; t^T] t_1 = [0; 1]`` up to its length."""
+    t = np.linalg.solve(J, np.append(np.zeros(J.shape[0] - 1), 1.0))
+    return t / np.linalg.norm(t)
+
+
 def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
     """A step along the other piece's tangent when the prediction crosses a contact switch (None if not)."""
     u_pred = u0 + h * t0
@@ -298,7 +310,7 @@ def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
     if along * into < 0:
         t1 = -t1
     try:
-        u1, iterations, norm, A1 = correct(u0 + h * t1, t1)
+        u1, iterations, norm, J1 = correct(u0 + h * t1, t1)
     except (ConvergenceError, np.linalg.LinAlgError):
         return None
     if np.linalg.norm(u1 - (u0 + h * t1)) > h:
@@ -306,7 +318,7 @@ def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
     z1, lam1 = unscale(u1)
     if np.array_equal(problem.contact_state(z1, lam1), problem.contact_state(z0, lam0)):
         return None  # back on the piece it came from
-    t_new = tangent(A1, t1)
+    t_new = _corrected_tangent(J1)
     return u1, t_new, iterations, norm, True
 
 
