@@ -23,7 +23,9 @@ harmonics: ``O(N n^2 H)`` per evaluation instead of ``O(N n^2 H^2)``), equal
 to rounding. The algorithm's own economies are the reference's (the corrector's Newton with
 ``lazy_jacobian``, the tangent from the corrector's last Newton matrix); here the lazy Jacobian is
 assembled from the sampled states the last residual left in the workspace (no second residual), and the
-tangent reuses that matrix's LU factors where Newton made them.
+tangent reuses that matrix's LU factors where Newton made them. The predictor's quadratic term lives in
+the call: as the kernel runs in calls of 16 points when a progress callback is given, each call starts
+without it (the reference does the same).
 
 Integer settings ``ints``: ``n, H, N, nu, n_switches, max_iterations, max_new, count, max_points, start``;
 float settings ``fl``: ``s0, z_scale, l_scale, lo, hi, d_lam, h, min_step, max_step, tol, direction, bound``;
@@ -41,6 +43,9 @@ from .compiled_aft import force_scale_into, jacobian_at_states, residual, switch
 from .eigen import lu_factor, lu_solve
 
 __all__ = ["continue_kernel"]
+
+#: the reference's CURVATURE_SHARE (rotorkit.periodic.continuation)
+CURVATURE_SHARE = 0.03
 
 # statuses of continue_kernel
 PAUSED, BUDGET, BOUND, MIN_STEP = 0, 1, 2, 3
@@ -306,6 +311,25 @@ def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, co
 
 
 @numba.njit(cache=False)
+def _curvature(u_prev, u0, t0, t_prev, smooth, curve):
+    """The predictor's quadratic term (the reference's ``_curvature``): ``(t0 - t_prev) / (2 d)``,
+    ``d = |u0 - u_prev|``; zero unless ``smooth`` (zero: the tangent alone)."""
+    m = u0.shape[0]
+    d = 0.0
+    if smooth:
+        for i in range(m):
+            e = u0[i] - u_prev[i]
+            d += e * e
+        d = math.sqrt(d)
+    if not smooth or d == 0.0:
+        for i in range(m):
+            curve[i] = 0.0
+        return
+    for i in range(m):
+        curve[i] = (t0[i] - t_prev[i]) / (2.0 * d)
+
+
+@numba.njit(cache=False)
 def _distance(a, b, h, c):
     """``|a - (b + h c)|``."""
     s = 0.0
@@ -451,6 +475,9 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
     u1 = np.empty(m)
     t1 = np.empty(m)
     u_pred = np.empty(m)
+    u_prev = np.empty(m)
+    t_prev = np.empty(m)
+    curve = np.zeros(m)  # the predictor's quadratic term (_curvature), zero at the first step of a call
     while True:
         if count + new >= max_points:
             fl[6] = h
@@ -462,11 +489,14 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         corner = False
         iterations = 0
         norm = 0.0
+        quadratic = h * h * _norm(curve) <= CURVATURE_SHARE * h  # zero: the same prediction either way
         for i in range(m):
             u_pred[i] = u0[i] + h * t0[i]
+            if quadratic:
+                u_pred[i] += h * h * curve[i]
         ok, iterations, norm, factored = _correct(u_pred, t0, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
                                                   coef, window, ws, nb, F, JF)
-        if ok and _distance(u1, u0, h, t0) <= h:
+        if ok and _distance(u1, u_pred, 0.0, u_pred) <= h:
             if _corrected_tangent(factored, JF, t1, nb):
                 cosine = 0.0
                 for i in range(m):
@@ -511,8 +541,11 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         out_norm[new] = norm
         out_corner[new] = corner
         new += 1
+        u_prev[:] = u0
+        t_prev[:] = t0
         u0[:] = u1
         t0[:] = t1
+        _curvature(u_prev, u0, t0, t_prev, not corner, curve)
         if iterations <= 3:
             h = min(max_step, h * 1.5)
         elif iterations >= 7:
