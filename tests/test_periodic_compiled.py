@@ -118,6 +118,22 @@ def test_compiled_progress_and_point_budget(rub_system):
     assert np.allclose([v for _, v in seen], b.parameter[1:], rtol=0, atol=0)
 
 
+def test_compiled_branch_with_progress_equals_the_python_branch(rub_system, monkeypatch):
+    """With a progress callback the kernel runs in calls of 16 points, each starting without the predictor's
+    quadratic term; the reference does the same, point for point."""
+    def run():
+        seen = []
+        return periodic_response(rub_system, speeds=(60.0, 200.0), harmonics=3, max_points=60, stability="none",
+                                 progress=lambda count, value: seen.append(count)), seen
+    compiled, seen = run()
+    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
+    reference, seen_reference = run()
+    assert len(compiled) == len(reference) == 60 and seen == seen_reference
+    assert np.allclose(compiled.parameter, reference.parameter, rtol=1e-8, atol=0)
+    amplitude = float(np.max(np.abs(reference.coefficients)))
+    assert np.max(np.abs(compiled.coefficients - reference.coefficients)) < 1e-8 * amplitude
+
+
 def test_small_eigensolver_against_lapack():
     import numba
 

@@ -20,7 +20,12 @@ first evaluation; and the AFT Jacobian ``sum_j P[c, j] (E[j, d] F_j + w
 sampled force Jacobians up to harmonic ``2H`` (a product of two basis
 functions is half a sum of two at the difference and the sum of their
 harmonics: ``O(N n^2 H)`` per evaluation instead of ``O(N n^2 H^2)``), equal
-to rounding.
+to rounding. The algorithm's own economies are the reference's (the corrector's Newton with
+``lazy_jacobian``, the tangent from the corrector's last Newton matrix); here the lazy Jacobian is
+assembled from the sampled states the last residual left in the workspace (no second residual), and the
+tangent reuses that matrix's LU factors where Newton made them. The predictor's quadratic term lives in
+the call: as the kernel runs in calls of 16 points when a progress callback is given, each call starts
+without it (the reference does the same).
 
 Integer settings ``ints``: ``n, H, N, nu, n_switches, max_iterations, max_new, count, max_points, start``;
 float settings ``fl``: ``s0, z_scale, l_scale, lo, hi, d_lam, h, min_step, max_step, tol, direction, bound``;
@@ -34,10 +39,13 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import force_scale_into, residual, switches_of, workspace
+from .compiled_aft import force_scale_into, jacobian_at_states, residual, switches_of, workspace
 from .eigen import lu_factor, lu_solve
 
 __all__ = ["continue_kernel"]
+
+#: the reference's CURVATURE_SHARE (rotorkit.periodic.continuation)
+CURVATURE_SHARE = 0.03
 
 # statuses of continue_kernel
 PAUSED, BUDGET, BOUND, MIN_STEP = 0, 1, 2, 3
@@ -111,26 +119,52 @@ def _fun(u, want, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, 
 
 
 @numba.njit(cache=False)
-def _newton(u, mode, lam_fixed, u_pred, tvec, column, scale, max_iterations, evaluated, rhs, jac, ints, fl, E, P,
-            ED, M, base, varying, coef, window, ws, nb, R, JF):
-    """:func:`rotorkit.periodic.hb.newton` on ``u`` (in place); returns ``(converged, iterations, norm)`` with
-    the function in ``R`` and the Jacobian at the solution in ``JF`` (both given at ``u`` if ``evaluated``)."""
+def _jacobian_at_trial(mode, tvec, column, scale, jac, ints, fl, E, M, ws, nb, JF):
+    """The Jacobian of Newton's function at the point of the last evaluation, from the states the workspace
+    holds (:func:`~rotorkit.periodic.compiled_aft.jacobian_at_states`): the residual is not evaluated again."""
+    if mode == 0:
+        jacobian_at_states(jac, ints, E, M, ws, JF)
+        return
+    Jz = nb[9]
+    size = Jz.shape[0]
+    z_scale = fl[1]
+    jacobian_at_states(jac, ints, E, M, ws, Jz)
+    for r in range(size):
+        for c in range(size):
+            JF[r, c] = Jz[r, c] * z_scale
+        JF[r, size] = column[r]
+    for c in range(size + 1):
+        JF[size, c] = scale * tvec[c]
+
+
+@numba.njit(cache=False)
+def _newton(u, mode, lam_fixed, u_pred, tvec, column, scale, max_iterations, evaluated, lazy, rhs, jac, ints, fl,
+            E, P, ED, M, base, varying, coef, window, ws, nb, R, JF):
+    """:func:`rotorkit.periodic.hb.newton` on ``u`` (in place); returns ``(converged, iterations, norm,
+    factored)`` with the function in ``R`` and the Jacobian at the solution in ``JF`` (both given at ``u`` if
+    ``evaluated``; with ``lazy`` (``lazy_jacobian``) the last Jacobian evaluated); ``factored``: whether
+    ``nb[2]``, ``nb[3]`` hold the regular LU factors of that ``JF``."""
     m = u.shape[0]
     tol = fl[9]
     R_new, J_new, LU, piv, dz, x, trial = nb[0], nb[1], nb[2], nb[3], nb[4], nb[5], nb[6]
     if not evaluated and not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P,
                                   ED, M, base, varying, coef, window, ws, nb, R, JF):
-        return False, 0, np.inf
+        return False, 0, np.inf, False
+    current = True  # JF is the Jacobian at u
+    factored = False
     norm = _max_abs(R) / scale
     for iteration in range(max_iterations + 1):
         if norm <= tol:
-            return True, iteration, norm
+            return True, iteration, norm, factored
         if iteration == max_iterations:
             break
+        if not current:  # the workspace holds the states of u: the last evaluation was there
+            _jacobian_at_trial(mode, tvec, column, scale, jac, ints, fl, E, M, ws, nb, JF)
+            current = True
         for r in range(m):
             for c in range(m):
                 LU[r, c] = JF[r, c]
-        lu_factor(LU, piv)
+        factored = lu_factor(LU, piv)
         for i in range(m):
             x[i] = -R[i]
         lu_solve(LU, piv, x, dz)
@@ -140,8 +174,8 @@ def _newton(u, mode, lam_fixed, u_pred, tvec, column, scale, max_iterations, eva
         while True:
             for i in range(m):
                 trial[i] = u[i] + step * dz[i]
-            finite = _fun(trial, step == 1.0, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E,
-                          P, ED, M, base, varying, coef, window, ws, nb, R_new, J_new)
+            finite = _fun(trial, step == 1.0 and not lazy, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac,
+                          ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, R_new, J_new)
             if finite:
                 for i in range(m):
                     x[i] = -R_new[i]
@@ -154,16 +188,24 @@ def _newton(u, mode, lam_fixed, u_pred, tvec, column, scale, max_iterations, eva
             step *= 0.5
         for i in range(m):
             u[i] += step * dz[i]
-        if ok and step == 1.0:
+        if ok and lazy:
+            for r in range(m):
+                R[r] = R_new[r]
+            current = False
+        elif ok and step == 1.0:
             for r in range(m):
                 R[r] = R_new[r]
                 for c in range(m):
                     JF[r, c] = J_new[r, c]
-        elif not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M,
-                      base, varying, coef, window, ws, nb, R, JF):
-            return False, iteration + 1, np.inf
+            factored = False
+        else:
+            factored = False
+            if not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M,
+                        base, varying, coef, window, ws, nb, R, JF):
+                return False, iteration + 1, np.inf, False
+            current = True
         norm = _max_abs(R) / scale
-    return False, max_iterations, norm
+    return False, max_iterations, norm, False
 
 
 @numba.njit(cache=False)
@@ -185,6 +227,31 @@ def _tangent(A, reference, t, nb):
     if not math.isfinite(norm) or norm == 0.0:
         return False
     for i in range(m + 1):
+        t[i] /= norm
+    return True
+
+
+@numba.njit(cache=False)
+def _corrected_tangent(factored, JF, t, nb):
+    """The reference's ``_corrected_tangent``: unit ``t = JF^-1 [0; 1]`` from the corrector's Newton matrix
+    ``JF = [A; scale t_0^T]`` (its LU factors in ``nb[2]``, ``nb[3]`` if ``factored``, else factored here);
+    False if singular or not finite."""
+    LU, piv, b = nb[2], nb[3], nb[13]
+    m = LU.shape[0]
+    if not factored:
+        for r in range(m):
+            for c in range(m):
+                LU[r, c] = JF[r, c]
+        if not lu_factor(LU, piv):
+            return False
+    for c in range(m):
+        b[c] = 0.0
+    b[m - 1] = 1.0
+    lu_solve(LU, piv, b, t)
+    norm = _norm(t)
+    if not math.isfinite(norm) or norm == 0.0:
+        return False
+    for i in range(m):
         t[i] /= norm
     return True
 
@@ -212,9 +279,10 @@ def _full_jacobian(u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, wind
 
 
 @numba.njit(cache=False)
-def _correct(u_pred, tvec, u, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF):
+def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF):
     """The corrector of :func:`~rotorkit.periodic.continuation.continue_branch`: ``(converged, iterations,
-    norm)``, the solution in ``u`` and the Jacobian rows of the residual in ``A1`` (m, m + 1).
+    norm, factored)``, the solution in ``u`` and Newton's matrix in ``JF`` (the last evaluated: Newton's
+    ``lazy_jacobian``), ``factored`` as :func:`_newton`'s.
 
     ``dR/dlambda`` (frozen at the prediction) is the forward difference of step ``d_lam`` from the residual
     at the prediction, which is also Newton's first evaluation."""
@@ -226,10 +294,10 @@ def _correct(u_pred, tvec, u, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying
     lp = u_pred[size] * l_scale
     scale = force_scale_into(lp, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
     if not residual(zp, lp, True, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, Rz, Jz):
-        return False, 0, np.inf
+        return False, 0, np.inf, False
     if not residual(zp, lp + fl[5], False, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, plus,
                      Jz):
-        return False, 0, np.inf
+        return False, 0, np.inf, False
     for i in range(size):
         column[i] = (plus[i] - Rz[i]) / fl[5]
     for i in range(size):
@@ -237,12 +305,28 @@ def _correct(u_pred, tvec, u, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying
     for i in range(size + 1):
         u[i] = u_pred[i]
     _bordered(u, u_pred, tvec, column, scale, z_scale, Rz, Jz, True, F, JF)
-    ok, iterations, norm = _newton(u, 1, 0.0, u_pred, tvec, column, scale, ints[5], True, rhs, jac, ints, fl, E, P,
-                                   ED, M, base, varying, coef, window, ws, nb, F, JF)
-    for r in range(size):
-        for c in range(size + 1):
-            A1[r, c] = JF[r, c]
-    return ok, iterations, norm
+    ok, iterations, norm, factored = _newton(u, 1, 0.0, u_pred, tvec, column, scale, ints[5], True, True, rhs, jac,
+                                             ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF)
+    return ok, iterations, norm, factored
+
+
+@numba.njit(cache=False)
+def _curvature(u_prev, u0, t0, t_prev, smooth, curve):
+    """The predictor's quadratic term (the reference's ``_curvature``): ``(t0 - t_prev) / (2 d)``,
+    ``d = |u0 - u_prev|``; zero unless ``smooth`` (zero: the tangent alone)."""
+    m = u0.shape[0]
+    d = 0.0
+    if smooth:
+        for i in range(m):
+            e = u0[i] - u_prev[i]
+            d += e * e
+        d = math.sqrt(d)
+    if not smooth or d == 0.0:
+        for i in range(m):
+            curve[i] = 0.0
+        return
+    for i in range(m):
+        curve[i] = (t0[i] - t_prev[i]) / (2.0 * d)
 
 
 @numba.njit(cache=False)
@@ -294,9 +378,8 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
         for i in range(m):
             t1[i] = -t1[i]
     u_pred = u0 + h * t1
-    A1 = np.empty((size, m))
-    ok, iterations, norm = _correct(u_pred, t1, u1, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
-                                    window, ws, nb, F, JF)
+    ok, iterations, norm, factored = _correct(u_pred, t1, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
+                                              coef, window, ws, nb, F, JF)
     if not ok:
         return False, 0, 0.0
     if _distance(u1, u0, h, t1) > h:
@@ -306,7 +389,7 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
                  window)
     if _same(s1, s0):
         return False, 0, 0.0
-    if not _tangent(A1, t1, t_new, nb):
+    if not _corrected_tangent(factored, JF, t_new, nb):
         return False, 0, 0.0
     return True, iterations, norm
 
@@ -319,8 +402,8 @@ def _solve_fixed(z, lam, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, w
     nb = _buffers(size, size)
     R = np.empty(size)
     JF = np.empty((size, size))
-    return _newton(z, 0, lam, z, z, z, scale, ints[5], False, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
-                   window, ws, nb, R, JF)
+    return _newton(z, 0, lam, z, z, z, scale, ints[5], False, False, rhs, jac, ints, fl, E, P, ED, M, base, varying,
+                   coef, window, ws, nb, R, JF)[:3]
 
 
 @numba.njit(cache=False)
@@ -392,7 +475,9 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
     u1 = np.empty(m)
     t1 = np.empty(m)
     u_pred = np.empty(m)
-    A1 = np.empty((size, m))
+    u_prev = np.empty(m)
+    t_prev = np.empty(m)
+    curve = np.zeros(m)  # the predictor's quadratic term (_curvature), zero at the first step of a call
     while True:
         if count + new >= max_points:
             fl[6] = h
@@ -404,12 +489,15 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         corner = False
         iterations = 0
         norm = 0.0
+        quadratic = h * h * _norm(curve) <= CURVATURE_SHARE * h  # zero: the same prediction either way
         for i in range(m):
             u_pred[i] = u0[i] + h * t0[i]
-        ok, iterations, norm = _correct(u_pred, t0, u1, A1, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
-                                        window, ws, nb, F, JF)
-        if ok and _distance(u1, u0, h, t0) <= h:
-            if _tangent(A1, t0, t1, nb):
+            if quadratic:
+                u_pred[i] += h * h * curve[i]
+        ok, iterations, norm, factored = _correct(u_pred, t0, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
+                                                  coef, window, ws, nb, F, JF)
+        if ok and _distance(u1, u_pred, 0.0, u_pred) <= h:
+            if _corrected_tangent(factored, JF, t1, nb):
                 cosine = 0.0
                 for i in range(m):
                     cosine += t1[i] * t0[i]
@@ -453,8 +541,11 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         out_norm[new] = norm
         out_corner[new] = corner
         new += 1
+        u_prev[:] = u0
+        t_prev[:] = t0
         u0[:] = u1
         t0[:] = t1
+        _curvature(u_prev, u0, t0, t_prev, not corner, curve)
         if iterations <= 3:
             h = min(max_step, h * 1.5)
         elif iterations >= 7:

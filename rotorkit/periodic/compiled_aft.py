@@ -18,7 +18,8 @@ import numba
 import numpy as np
 
 __all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "local_jacobian",
-           "aft_states", "workspace", "frame_into", "residual", "scale_at_rest", "switches_of", "force_scale_into"]
+           "aft_states", "workspace", "frame_into", "residual", "jacobian_at_states", "scale_at_rest", "switches_of",
+           "force_scale_into"]
 
 
 @numba.njit(cache=False)
@@ -213,20 +214,13 @@ def frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws):
 
 @numba.njit(cache=False)
 def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R, J):
-    """``R`` (and ``J`` if ``want``) of the harmonic balance at ``(z, lam)``; False if ``R`` is not finite.
-
-    The linear part per harmonic block; the local forces' Jacobian projected as
-    ``J[c, d] -= sum_j P[c, j] (E[j, d] Fq_j + w ED[j, d] Fv_j)``, summed from the sampled Jacobians' cosine
-    and sine sums up to harmonic 2H (a product of two basis functions is a sum of two of those)."""
+    """``R`` (and ``J`` if ``want``: :func:`jacobian_at_states`) of the harmonic balance at ``(z, lam)``; False
+    if ``R`` is not finite. The states at the AFT samples stay in the workspace (``ws[6]``)."""
     n, H, N = ints[0], ints[1], ints[2]
     H2 = E.shape[1]
-    size = n * H2
     frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
     p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
-    Y, a, g, f, Aj, G, S = ws[6], ws[7], ws[8], ws[9], ws[10], ws[11], ws[12]
-    trig, terms, weights = ws[13], ws[14], ws[15]
-    nn = n * n
-    Gq, Gv = G[:nn].reshape((n, n)), G[nn:].reshape((n, n))  # views: G is (Fq, Fv) of one instant, flat
+    Y, a, g, f = ws[6], ws[7], ws[8], ws[9]
     omega, period = info[1], info[2]
     # R = L z per block: K z_0; (K - (kw)^2 M) a_k + kw C b_k; -kw C a_k + (K - (kw)^2 M) b_k
     for i in range(n):
@@ -250,17 +244,8 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
             for l in range(n):
                 s += (K[i, l] - kw * kw * M[i, l]) * z[rb + l]
             R[rb + i] = s
-    if want:
-        for r in range(size):
-            for c in range(size):
-                J[r, c] = 0.0
-        linear_blocks(K, C, M, omega, H, n, J)
-        for k in range(2 * H2):
-            for e in range(2 * nn):
-                S[k, e] = 0.0
     for j in range(N):  # the states at all instants first
         aft_states(z, j, omega, E, ED, n, Y[j])
-    contact = False
     for j in range(N):
         t = period * j / N
         y = Y[j]
@@ -277,25 +262,56 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
             for k in range(n):
                 s += M[i, k] * g[k]
             f[j, i] = s
-        if want:
-            for r in range(2 * n):
-                for c in range(2 * n):
-                    Aj[r, c] = 0.0
-            jac(t, y, p, Aj)
-            if not local_jacobian(M, Aj, A0, n, Gq, Gv):
-                continue  # the linear part alone here (no contact at this instant): nothing to project
-            contact = True
-            for k in range(2 * H2):
-                tk = trig[j, k]
-                for e in range(2 * nn):
-                    S[k, e] += tk * G[e]
     for h in range(H2):  # R -= P f, per entry in the order of the samples
         for i in range(n):
             s = R[h * n + i]
             for j in range(N):
                 s -= P[h, j] * f[j, i]
             R[h * n + i] = s
-    if want and contact:
+    if want:
+        jacobian_at_states(jac, ints, E, M, ws, J)
+    s = 0.0
+    for r in range(R.shape[0]):
+        s += R[r] * R[r]
+    return math.isfinite(s)
+
+
+@numba.njit(cache=False)
+def jacobian_at_states(jac, ints, E, M, ws, J):
+    """The residual's Jacobian ``J`` at the states and frame the workspace holds (those of the last
+    :func:`residual` call): the linear part per harmonic block; the local forces' Jacobian projected as
+    ``J[c, d] -= sum_j P[c, j] (E[j, d] Fq_j + w ED[j, d] Fv_j)``, summed from the sampled Jacobians' cosine
+    and sine sums up to harmonic 2H (a product of two basis functions is a sum of two of those)."""
+    n, H, N = ints[0], ints[1], ints[2]
+    H2 = E.shape[1]
+    size = n * H2
+    p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
+    Y, Aj, G, S = ws[6], ws[10], ws[11], ws[12]
+    trig, terms, weights = ws[13], ws[14], ws[15]
+    nn = n * n
+    Gq, Gv = G[:nn].reshape((n, n)), G[nn:].reshape((n, n))  # views: G is (Fq, Fv) of one instant, flat
+    omega, period = info[1], info[2]
+    for r in range(size):
+        for c in range(size):
+            J[r, c] = 0.0
+    linear_blocks(K, C, M, omega, H, n, J)
+    for k in range(2 * H2):
+        for e in range(2 * nn):
+            S[k, e] = 0.0
+    contact = False
+    for j in range(N):
+        for r in range(2 * n):
+            for c in range(2 * n):
+                Aj[r, c] = 0.0
+        jac(period * j / N, Y[j], p, Aj)
+        if not local_jacobian(M, Aj, A0, n, Gq, Gv):
+            continue  # the linear part alone here (no contact at this instant): nothing to project
+        contact = True
+        for k in range(2 * H2):
+            tk = trig[j, k]
+            for e in range(2 * nn):
+                S[k, e] += tk * G[e]
+    if contact:
         for c in range(H2):
             for d in range(H2):
                 k0, k1, k2, k3 = terms[c, d, 0], terms[c, d, 1], terms[c, d, 2], terms[c, d, 3]
@@ -305,10 +321,6 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
                         e = i * n + l
                         J[c * n + i, d * n + l] -= ((w0 * S[k0, e] + w1 * S[k1, e])
                                                     + omega * (w2 * S[k2, nn + e] + w3 * S[k3, nn + e]))
-    s = 0.0
-    for r in range(size):
-        s += R[r] * R[r]
-    return math.isfinite(s)
 
 
 @numba.njit(cache=False)

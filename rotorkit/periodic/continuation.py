@@ -3,8 +3,17 @@
 The unknowns ``u = (z / z_s, lambda / l_s)`` are scaled (``z_s`` a typical
 amplitude in m or rad, ``l_s`` the width of the parameter range). From a
 solution ``u_0`` with unit tangent ``t_0`` a step of length ``h`` predicts
-``u_0 + h t_0``; the corrector solves ``R(u) = 0`` on the hyperplane through
-the prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`).
+``u_0 + h t_0 + h^2 a``, ``a = (t_0 - t_{-1}) / (2 d)`` half the second
+derivative in arclength estimated from the tangent ``t_{-1}`` at the point
+before, ``d`` from it; ``a`` is left out where ``h^2 |a|`` exceeds
+:data:`CURVATURE_SHARE` of ``h`` (a kink between the two points: a contact
+sample switching on), at the first step, after a grazing corner and, as the
+compiled kernel runs in calls of :data:`CHUNK` points when a progress
+callback is given, at the first step of each such call. The corrector solves ``R(u) = 0`` on the hyperplane through the
+prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`
+with its ``lazy_jacobian``: a trial point's Jacobian is evaluated only where
+another step follows, and the tangent at the corrected point is taken with
+the last one evaluated, as ``dR/dlambda`` is the one at the prediction).
 The step grows by 1.5 after an easy correction (<= 3 iterations), shrinks
 after a hard one, and halves after a failure, down to ``min_step``. A
 corrected point farther than ``h`` from its prediction counts as a failure
@@ -27,7 +36,7 @@ of the other piece is taken from the Jacobian at the prediction (the
 analytic Jacobian there is the other side's), oriented so that it moves
 into the other side as ``t_0`` did, and the step is tried along it.
 
-The derivative of the residual with respect to the parameter is a central
+The derivative of the residual with respect to the parameter is a forward
 difference (the parameter enters through the base frequency, the forcing
 and the matrices); the Jacobian with respect to the unknowns is the
 analytic AFT one.
@@ -43,6 +52,14 @@ import numpy as np
 from ..errors import ParameterError
 from .errors import ConvergenceError
 from .hb import newton
+
+#: the predictor's quadratic term is used where it moves the prediction by at most this share of the step:
+#: a larger one comes from a kink between the last two points (a contact sample switching on), where the
+#: tangents' difference is no curvature
+CURVATURE_SHARE = 0.03
+#: points per call of the compiled kernel when a progress callback is given (rotorkit.periodic.fastpath's
+#: chunk): each call starts without the quadratic term, and so does the reference there
+CHUNK = 16
 
 __all__ = ["ContinuationProblem", "ContinuationOptions", "continue_branch", "BranchPoints"]
 
@@ -220,8 +237,8 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
             return F, np.vstack([np.hstack([Jz * z_scale, column]), scale * t[None, :]])
 
         u, iterations, norm, J = newton(fun, u_pred, tol=opts.tol, scale=scale, max_iterations=opts.max_iterations,
-                                        what="continuation corrector")
-        return u, iterations, norm, J[:-1]
+                                        what="continuation corrector", lazy_jacobian=True)
+        return u, iterations, norm, J
 
     u0 = np.append(z0 / z_scale, lam0 / l_scale)
     direction = 1.0 if stop >= start else -1.0
@@ -233,15 +250,21 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
     out.tangents.append(t0 * scales)
     out.residuals.append(0.0)
     h = opts.step
+    curve = None
     while True:
         if len(out.parameter) >= opts.max_points:
             out.reason = f"point budget of {opts.max_points} points reached"
             return out
         accepted = None
         try:
-            u1, iterations, norm, A1 = correct(u0 + h * t0, t0)
-            if np.linalg.norm(u1 - (u0 + h * t0)) <= h:
-                t1 = tangent(A1, t0)
+            if progress is not None and (len(out.parameter) - 1) % CHUNK == 0:
+                curve = None  # as the compiled kernel, which runs in calls of CHUNK points and starts each afresh
+            u_pred = u0 + h * t0
+            if curve is not None and h * h * float(np.linalg.norm(curve)) <= CURVATURE_SHARE * h:
+                u_pred = u_pred + h * h * curve
+            u1, iterations, norm, J1 = correct(u_pred, t0)
+            if np.linalg.norm(u1 - u_pred) <= h:
+                t1 = _corrected_tangent(J1)
                 if float(t1 @ t0) > 0.7 or h <= 4.0 * opts.min_step:
                     accepted = (u1, t1, iterations, norm, False)
         except (ConvergenceError, np.linalg.LinAlgError):
@@ -277,8 +300,28 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
             out.corners.append(len(out.parameter) - 1)
         if progress is not None:
             progress(len(out.parameter), lam1)
+        curve = None if corner else _curvature(u0, u1, t1, t0)
         u0, t0 = u1, t1
         h = min(opts.max_step, h * 1.5) if iterations <= 3 else (h * 0.6 if iterations >= 7 else h)
+
+
+def _curvature(before, u0, t0, t_before):
+    """Half the second derivative in arclength at ``u0`` from the tangents there and at the point ``before`` it,
+    ``(t0 - t_before) / (2 d)`` with ``d = |u0 - before|`` (None if ``d`` is zero): the predictor's quadratic
+    term. From the tangents rather than the positions, which the corrector leaves on the branch only to its
+    tolerance (extrapolating them would amplify their scatter along the branch)."""
+    d = float(np.linalg.norm(u0 - before))
+    if d == 0.0:
+        return None
+    return (t0 - t_before) / (2.0 * d)
+
+
+def _corrected_tangent(J):
+    """The unit tangent at a corrected point from the corrector's Newton matrix ``J = [A; s t^T]`` (``A`` the
+    residual's Jacobian rows as the corrector last evaluated them, ``s > 0`` the residual scale, ``t`` the
+    step's tangent): ``J^-1 [0; 1]`` normalised, which solves ``[A; t^T] t_1 = [0; 1]`` up to its length."""
+    t = np.linalg.solve(J, np.append(np.zeros(J.shape[0] - 1), 1.0))
+    return t / np.linalg.norm(t)
 
 
 def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
@@ -298,7 +341,7 @@ def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
     if along * into < 0:
         t1 = -t1
     try:
-        u1, iterations, norm, A1 = correct(u0 + h * t1, t1)
+        u1, iterations, norm, J1 = correct(u0 + h * t1, t1)
     except (ConvergenceError, np.linalg.LinAlgError):
         return None
     if np.linalg.norm(u1 - (u0 + h * t1)) > h:
@@ -306,7 +349,7 @@ def _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct):
     z1, lam1 = unscale(u1)
     if np.array_equal(problem.contact_state(z1, lam1), problem.contact_state(z0, lam0)):
         return None  # back on the piece it came from
-    t_new = tangent(A1, t1)
+    t_new = _corrected_tangent(J1)
     return u1, t_new, iterations, norm, True
 
 

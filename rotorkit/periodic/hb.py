@@ -384,7 +384,7 @@ def _new_mass_function(model):
     return mass
 
 
-def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
+def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance", lazy_jacobian=False):
     """Damped Newton: ``fun(z, jacobian) -> (R, J)``; stops when ``max |R| <= tol * scale``.
 
     The damping factor ``s`` (1, 1/2, ... down to 1/128) is the first that
@@ -394,6 +394,11 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
     in the forces, whose size changes by the contact stiffness across a
     contact boundary.
 
+    With ``lazy_jacobian`` the trial points are evaluated without their
+    Jacobian, which is asked for only where another step follows: the
+    converged point's Jacobian is then the last one evaluated (at the
+    iterate before it, or at ``z0``).
+
     Returns
     -------
     z : numpy.ndarray
@@ -401,7 +406,7 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
     norm : float
         The final ``max |R| / scale``.
     J : numpy.ndarray
-        The Jacobian at ``z``.
+        The Jacobian at ``z`` (with ``lazy_jacobian``: the last one evaluated).
 
     Raises
     ------
@@ -411,12 +416,15 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
     lu_factor, lu_solve = _lu_functions()
     z = np.array(z0, dtype=float)
     R, J = fun(z, True)
+    current = True  # J is the Jacobian at z
     norm = float(np.max(np.abs(R))) / scale
     for iteration in range(max_iterations + 1):
         if norm <= tol:
             return z, iteration, norm, J
         if iteration == max_iterations:
             break
+        if not current:
+            R, J = fun(z, True)
         lu = lu_factor(J)
         dz = lu_solve(lu, -R)
         size = float(np.linalg.norm(dz))
@@ -425,7 +433,7 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
         while True:
             try:
                 # the full step is nearly always taken: its Jacobian is evaluated with its residual
-                R_new, J_new = fun(z + step * dz, step == 1.0)
+                R_new, J_new = fun(z + step * dz, step == 1.0 and not lazy_jacobian)
                 ok = float(np.linalg.norm(lu_solve(lu, -R_new))) <= (1.0 - step / 4.0) * size
             except ConvergenceError:
                 ok = False
@@ -433,10 +441,13 @@ def newton(fun, z0, *, tol, scale, max_iterations=30, what="harmonic balance"):
                 break
             step *= 0.5
         z = z + step * dz
-        if ok and J_new is not None:
+        if ok and lazy_jacobian:
+            R, current = R_new, False
+        elif ok and J_new is not None:
             R, J = R_new, J_new
         else:
             R, J = fun(z, True)
+            current = True
         norm = float(np.max(np.abs(R))) / scale
     raise ConvergenceError(f"{what}: no convergence in {max_iterations} Newton iterations (residual {norm:.3g} "
                            f"relative; tolerance {tol:g})", residual=norm)
