@@ -8,7 +8,7 @@ derivative in arclength estimated from the tangent ``t_{-1}`` at the point
 before, ``d`` from it; ``a`` is left out where ``h^2 |a|`` exceeds
 :data:`CURVATURE_SHARE` of ``h`` (a kink between the two points: a contact
 sample switching on), at the first step, after a grazing corner and, as the
-compiled kernel runs in calls of :data:`CHUNK` points when a progress
+compiled kernel runs in calls of :data:`rotorkit.periodic.fastpath.CHUNK` points when a progress
 callback is given, at the first step of each such call. The corrector solves ``R(u) = 0`` on the hyperplane through the
 prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`
 with its ``lazy_jacobian``: a trial point's Jacobian is evaluated only where
@@ -51,15 +51,13 @@ import numpy as np
 
 from ..errors import ParameterError
 from .errors import ConvergenceError
+from .fastpath import CHUNK
 from .hb import newton
 
 #: the predictor's quadratic term is used where it moves the prediction by at most this share of the step:
 #: a larger one comes from a kink between the last two points (a contact sample switching on), where the
 #: tangents' difference is no curvature
 CURVATURE_SHARE = 0.03
-#: points per call of the compiled kernel when a progress callback is given (rotorkit.periodic.fastpath's
-#: chunk): each call starts without the quadratic term, and so does the reference there
-CHUNK = 16
 
 __all__ = ["ContinuationProblem", "ContinuationOptions", "continue_branch", "BranchPoints"]
 

@@ -45,6 +45,10 @@ import numpy as np
 __all__ = ["MAX_COORDINATES", "MAX_UNKNOWNS", "compile_kernels", "kernels_compiled", "compiled_setup", "continue_compiled", "solve_compiled",
            "linear_scale_compiled", "switches_compiled", "point_data"]
 
+#: points per call of the continuation kernel when a progress callback is given; each call starts the predictor
+#: afresh (no quadratic term at its first step), and so does the Python reference
+#: (:func:`rotorkit.periodic.continuation.continue_branch`) there
+CHUNK = 16
 #: the compiled path applies to systems with at most this many coordinates ...
 MAX_COORDINATES = 10
 #: ... and at most this many harmonic-balance unknowns n (2H + 1) (Hill's matrix is twice that)
@@ -344,7 +348,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
     u0 = np.append(np.asarray(z0, dtype=float) / z_scale, lam0 / l_scale)
     t0 = np.zeros(size + 1)
     kernel = _entry("continue", setup)
-    chunk = 16 if progress is not None else opts.max_points
+    chunk = CHUNK if progress is not None else opts.max_points
     first = True
     while True:
         ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk, count=max(len(out.parameter), 1),
