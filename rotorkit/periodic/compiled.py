@@ -92,12 +92,19 @@ def _bordered(u, u_pred, tvec, column, scale, z_scale, Rz, Jz, want, F, JF):
         F[i] = Rz[i]
     F[size] = scale * s
     if want:
-        for r in range(size):
-            for c in range(size):
-                JF[r, c] = Jz[r, c] * z_scale
-            JF[r, size] = column[r]
-        for c in range(size + 1):
-            JF[size, c] = scale * tvec[c]
+        _bordered_jacobian(tvec, column, scale, z_scale, Jz, JF)
+
+
+@numba.njit(cache=False)
+def _bordered_jacobian(tvec, column, scale, z_scale, Jz, JF):
+    """The corrector's Newton matrix ``[Jz z_s, dR/dlambda l_s; scale t^T]`` from the residual's Jacobian ``Jz``."""
+    size = Jz.shape[0]
+    for r in range(size):
+        for c in range(size):
+            JF[r, c] = Jz[r, c] * z_scale
+        JF[r, size] = column[r]
+    for c in range(size + 1):
+        JF[size, c] = scale * tvec[c]
 
 
 @numba.njit(cache=False)
@@ -126,15 +133,8 @@ def _jacobian_at_trial(mode, tvec, column, scale, jac, ints, fl, E, M, ws, nb, J
         jacobian_at_states(jac, ints, E, M, ws, JF)
         return
     Jz = nb[9]
-    size = Jz.shape[0]
-    z_scale = fl[1]
     jacobian_at_states(jac, ints, E, M, ws, Jz)
-    for r in range(size):
-        for c in range(size):
-            JF[r, c] = Jz[r, c] * z_scale
-        JF[r, size] = column[r]
-    for c in range(size + 1):
-        JF[size, c] = scale * tvec[c]
+    _bordered_jacobian(tvec, column, scale, fl[1], Jz, JF)
 
 
 @numba.njit(cache=False)
