@@ -134,6 +134,13 @@ def test_compiled_branch_with_progress_equals_the_python_branch(rub_system, monk
     assert np.max(np.abs(compiled.coefficients - reference.coefficients)) < 1e-8 * amplitude
 
 
+def test_the_kernel_and_the_reference_share_the_predictor_settings():
+    """The kernel bakes the predictor's curvature guard in as a global: it must be the reference's."""
+    from rotorkit.periodic import compiled, continuation
+
+    assert compiled.CURVATURE_SHARE == continuation.CURVATURE_SHARE
+
+
 def test_small_eigensolver_against_lapack():
     import numba
 
