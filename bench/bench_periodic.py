@@ -125,7 +125,7 @@ class _Timed:
         setattr(self.module, self.name, self.function)
 
 
-def section_a(repeat, runs):
+def section_a(repeat, runs, steps=(BRANCH_STEPS["step"], BRANCH_STEPS["max_step"])):
     from rotorkit.analysis.periodic import periodic_response
     from rotorkit.periodic import fastpath
 
@@ -139,7 +139,7 @@ def section_a(repeat, runs):
     for _ in range(repeat):
         with _Timed(fastpath, "continue_compiled") as loop, _Timed(fastpath, "point_data") as data:
             t0 = time.perf_counter()
-            branch = periodic_response(system, speeds=SPEEDS, harmonics=3, **BRANCH_STEPS)
+            branch = periodic_response(system, speeds=SPEEDS, harmonics=3, step=steps[0], max_step=steps[1])
             hb_times.append(time.perf_counter() - t0)
         parts.append((loop.total, data.total))
     speeds = np.linspace(*SPEEDS, runs)
@@ -172,7 +172,7 @@ def section_a(repeat, runs):
     os.environ["ROTORKIT_PERIODIC_COMPILED"] = "0"
     try:
         t0 = time.perf_counter()
-        periodic_response(system, speeds=SPEEDS, harmonics=3, **BRANCH_STEPS)
+        periodic_response(system, speeds=SPEEDS, harmonics=3, step=steps[0], max_step=steps[1])
         python = time.perf_counter() - t0
     finally:
         os.environ.pop("ROTORKIT_PERIODIC_COMPILED")
@@ -399,6 +399,10 @@ def main():
     parser.add_argument("--nodes", type=int, default=25, help="beam nodes of the section b rotor (4 coordinates each)")
     parser.add_argument("--repeat", type=int, default=3, help="repetitions per timing (median; default 3)")
     parser.add_argument("--runs", type=int, default=10, help="time-integrated speeds timed in section a")
+    parser.add_argument("--branch-steps", type=float, nargs=2, metavar=("STEP", "MAX_STEP"),
+                        default=(BRANCH_STEPS["step"], BRANCH_STEPS["max_step"]),
+                        help="section a's arclength steps (default 0.02 0.05: about 200 points; 0.012 0.03 gives "
+                             "the 314-point branch of the earlier figures in docs/periodic.md)")
     parser.add_argument("--coordinates", type=int, default=100, help="size of the section c rotor")
     parser.add_argument("--harmonics", type=int, default=3, help="H of the section c solution")
     parser.add_argument("--out", default=str(ROOT / "docs" / "figures" / "periodic"))
@@ -406,7 +410,7 @@ def main():
     args = parser.parse_args()
     print(f"load average {load():.1f} on {os.cpu_count()} cores; BLAS threads {BLAS_THREADS}")
     if "a" in args.sections:
-        section_a(args.repeat, args.runs)
+        section_a(args.repeat, args.runs, tuple(args.branch_steps))
     if "b" in args.sections:
         sys.path.insert(0, str(ROOT / "bench"))
         section_b(args.repeat, args.nodes)
