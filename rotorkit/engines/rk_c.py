@@ -62,10 +62,9 @@ from .rk_common import (
     STATUS_SUCCESS,
     CoreSignatureError,
     RKSolution,
-    check_arguments,
     loop_method_id,
-    run_loop,
 )
+from .rk_arguments import check_arguments, run_loop
 
 __all__ = [
     "METHODS",

@@ -116,10 +116,9 @@ from .rk_common import (  # noqa: F401  (re-exported; globals of the compiled lo
     STATUS_SUCCESS,
     CoreSignatureError,
     RKSolution,
-    check_arguments,
     loop_method_id,
-    run_loop,
 )
+from .rk_arguments import check_arguments, run_loop
 
 from .rk_kernels import (
     all_finite,
