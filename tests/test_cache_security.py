@@ -146,6 +146,42 @@ def test_a_damaged_signed_numba_file_is_rebuilt_with_one_warning(fresh_cache, mo
         assert run() == pytest.approx(EXPECTED)  # repaired: the next process is quiet
 
 
+WRITER = """
+import sys, time
+from pathlib import Path
+from rotorkit.codegen import cache
+entry = Path(sys.argv[1])
+with cache.shared_lock(cache.NUMBA_LOCK, folder=entry):
+    (entry / "__pycache__" / "in_flight.nbi").write_bytes(b"written, not signed yet")
+    print("writing", flush=True)
+    time.sleep(1.5)
+    cache._sign_numba_files(entry)
+"""
+
+
+def test_files_another_process_is_writing_are_not_taken_for_planted_ones(fresh_cache, monkeypatch):
+    """A process that loads a model's numba cache waits for one that is writing and signing it (two test workers
+    compiling one model): before, it found the other's files unsigned, removed them and warned."""
+    import subprocess
+    import sys
+
+    run()
+    entry = entry_of(fresh_cache)
+    forget(monkeypatch)
+    writer = subprocess.Popen([sys.executable, "-c", WRITER, str(entry)], stdout=subprocess.PIPE, text=True,
+                              env={**os.environ, "ROTORKIT_CACHE_DIR": str(fresh_cache)})
+    try:
+        assert writer.stdout.readline().strip() == "writing"
+        with warnings.catch_warnings(record=True) as record:
+            warnings.simplefilter("always")
+            assert run() == pytest.approx(EXPECTED)
+    finally:
+        writer.wait(timeout=60)
+    assert writer.returncode == 0
+    assert not cache_warnings(record), [str(w.message) for w in record]
+    assert (entry / "__pycache__" / "in_flight.nbi").exists()
+
+
 def forget_only_memory(monkeypatch):
     monkeypatch.setattr(system_module, "_MODULES", {})
     monkeypatch.setattr(system_module, "_JIT_CACHE", {})

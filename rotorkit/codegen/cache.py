@@ -58,6 +58,9 @@ __all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "
 
 FORMAT = "rotorkit-model-cache-2"
 SIGNATURES = "numba.sig.json"
+#: the lock (``<entry>/<NUMBA_LOCK>.lock``) a process holds while it verifies and reads, or writes and signs,
+#: numba's cache files of an entry
+NUMBA_LOCK = "numba_cache"
 _WARNED = set()
 
 
@@ -357,7 +360,10 @@ def _guard(dispatcher, entry, folder=None):
     """Make numba verify its cache files before reading them and sign them after writing; False if impossible.
 
     ``folder`` is where numba must keep them (default ``entry/__pycache__``);
-    the signatures are in ``entry``.
+    the signatures are in ``entry``. Both hold the entry's lock
+    (:data:`NUMBA_LOCK`, :func:`shared_lock`): files another process has
+    written but not signed yet are never taken for planted ones and removed
+    (two processes compiling one model at the same time, as test workers do).
     """
     folder = entry / "__pycache__" if folder is None else folder
     function_cache = getattr(dispatcher, "_cache", None)
@@ -371,8 +377,9 @@ def _guard(dispatcher, entry, folder=None):
 
     def verified_load(*args, **kwargs):
         try:
-            _verify_numba_files(entry, folder)
-            return load_overload(*args, **kwargs)
+            with shared_lock(NUMBA_LOCK, folder=entry):  # not while another process writes and signs
+                _verify_numba_files(entry, folder)
+                return load_overload(*args, **kwargs)
         except Exception as exc:  # noqa: BLE001 - a damaged cache file: compile instead
             warn_once(f"rotorkit cache: numba's cache in {path} could not be read ({type(exc).__name__}: {exc}); "
                       "it is removed and numba compiles again", topic=("numba-load", str(path)))
@@ -381,9 +388,10 @@ def _guard(dispatcher, entry, folder=None):
 
     def signed_save(*args, **kwargs):
         try:
-            _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
-            save_overload(*args, **kwargs)
-            _sign_numba_files(entry, folder)
+            with shared_lock(NUMBA_LOCK, folder=entry):  # its files are unsigned until signed just below
+                _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
+                save_overload(*args, **kwargs)
+                _sign_numba_files(entry, folder)
         except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
             warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
                       f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
