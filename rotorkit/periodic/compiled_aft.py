@@ -12,14 +12,15 @@ reference (:class:`~rotorkit.periodic.hb.HarmonicBalance`); the continuation loo
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numba
 import numpy as np
 
 __all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "local_jacobian",
-           "aft_states", "workspace", "frame_into", "residual", "jacobian_at_states", "scale_at_rest", "switches_of",
-           "force_scale_into"]
+           "aft_states", "workspace", "aft_tables", "projection_terms", "frame_into", "residual", "jacobian_at_states",
+           "scale_at_rest", "switches_of", "force_scale_into"]
 
 
 @numba.njit(cache=False)
@@ -128,27 +129,36 @@ def aft_states(z, j, omega, E, ED, n, y):
 
 
 @numba.njit(cache=False)
-def workspace(ints, E, base):
+def workspace(ints, base, trig, terms, weights):
     """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
     ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights)``; ``info`` holds the speed
     of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
-    ``G``, ``S``, ``terms``, ``weights``: :func:`_projection_terms`."""
+    ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G``, ``S`` the
+    Jacobian's sums."""
     n, N = ints[0], ints[2]
-    H2 = E.shape[1]
-    trig = np.empty((N, 2 * H2))  # cos(m tau_j), sin(m tau_j) for m = 0 ... 2H: products of two basis functions
-    for j in range(N):
-        for m in range(H2):
-            angle = 2.0 * np.pi * ((m * j) % N) / N
-            trig[j, 2 * m] = math.cos(angle)
-            trig[j, 2 * m + 1] = math.sin(angle)
-    terms, weights = _projection_terms(H2, N)
+    H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
             np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
             np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights)
 
 
-@numba.njit(cache=False)
-def _projection_terms(H2, N):
+@functools.lru_cache(maxsize=16)
+def aft_tables(H2, N):
+    """``(trig, terms, weights)`` of the AFT Jacobian for ``H2 = 2H + 1`` basis functions and ``N`` samples
+    (plain Python, made once per size and passed to the kernels, which only read them): ``trig`` (N, 2 H2)
+    ``cos(m tau_j)``, ``sin(m tau_j)`` for m = 0 ... 2H (products of two basis functions), ``terms``,
+    ``weights`` (H2, H2, 4): :func:`projection_terms`."""
+    trig = np.empty((N, 2 * H2))
+    for j in range(N):
+        for m in range(H2):
+            angle = 2.0 * np.pi * ((m * j) % N) / N
+            trig[j, 2 * m] = math.cos(angle)
+            trig[j, 2 * m + 1] = math.sin(angle)
+    terms, weights = projection_terms(H2, N)
+    return trig, terms, weights
+
+
+def projection_terms(H2, N):
     """The AFT projection of the sampled force Jacobians, ``F_j`` (coordinates, entries ``G[j, :n n]``) and
     ``V_j`` (velocities, ``G[j, n n:]``), from their sums ``S[2 m] = sum_j cos(m tau_j) G_j`` and
     ``S[2 m + 1] = sum_j sin(m tau_j) G_j``, ``m = 0 ... 2H``: block ``(c, d)`` of
