@@ -41,6 +41,7 @@ import numpy as np
 
 from .compiled_aft import force_scale_into, residual, switches_of, workspace
 from .compiled_folds import grazing_value
+from .compiled_functions import core_function, jac_function
 from .compiled_newton import bordered, buffers, newton, solve_fixed, vector_norm
 from .eigen import lu_factor, lu_solve
 
@@ -240,7 +241,7 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
 
 
 @numba.njit(cache=False)
-def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, trig, terms, weights, u0, t0,
+def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, trig, terms, weights, u0, t0,
                     out_u, out_t, out_norm, out_corner):
     """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
     resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent
@@ -252,7 +253,11 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
     5``: the grazing fold between the points ``out_u`` (6 rows, :func:`~rotorkit.periodic.compiled_folds.grazing_value`;
     ``out_corner[:6]`` which exist, ``ints[6]`` steps per piece, ``ints[8]`` aims per step) into ``out_norm[0]``.
     Returns ``(status, new points)``; ``fl[6]`` holds the next step. ``trig``, ``terms``, ``weights``: the AFT
-    Jacobian's tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`)."""
+    Jacobian's tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`); ``functions`` the addresses of the
+    model's ``rhs``, ``jac`` and ``switches`` (:func:`~rotorkit.periodic.compiled_functions.function_addresses`)."""
+    rhs = core_function(functions[0], functions[1])
+    jac = jac_function(functions[2], functions[3])
+    sw = core_function(functions[4], functions[5])
     m = u0.shape[0]
     size = m - 1
     lo, hi = fl[3], fl[4]

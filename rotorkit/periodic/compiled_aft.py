@@ -254,8 +254,15 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
             for l in range(n):
                 s += (K[i, l] - kw * kw * M[i, l]) * z[rb + l]
             R[rb + i] = s
-    for j in range(N):  # the states at all instants first
-        aft_states(z, j, omega, E, ED, n, Y[j])
+    for j in range(N):  # the states at all instants first (aft_states, inline: no call per instant)
+        for i in range(n):
+            q = 0.0
+            v = 0.0
+            for h in range(H2):
+                q += E[j, h] * z[h * n + i]
+                v += ED[j, h] * z[h * n + i]
+            Y[j, i] = q
+            Y[j, n + i] = omega * v
     for j in range(N):
         t = period * j / N
         y = Y[j]
@@ -298,8 +305,7 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
     p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
     Y, Aj, G, S = ws[6], ws[10], ws[11], ws[12]
     trig, terms, weights = ws[13], ws[14], ws[15]
-    nn = n * n
-    Gq, Gv = G[:nn].reshape((n, n)), G[nn:].reshape((n, n))  # views: G is (Fq, Fv) of one instant, flat
+    nn = n * n  # G is (Fq, Fv) of one instant (local_jacobian), flat
     omega, period = info[1], info[2]
     for r in range(size):
         for c in range(size):
@@ -314,7 +320,19 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
             for c in range(2 * n):
                 Aj[r, c] = 0.0
         jac(period * j / N, Y[j], p, Aj)
-        if not local_jacobian(M, Aj, A0, n, Gq, Gv):
+        nonzero = False  # local_jacobian into G, inline (no call per instant)
+        for i in range(n):
+            for l in range(n):
+                sq = 0.0
+                sv = 0.0
+                for k in range(n):
+                    sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
+                    sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
+                G[i * n + l] = sq
+                G[nn + i * n + l] = sv
+                if sq != 0.0 or sv != 0.0:
+                    nonzero = True
+        if not nonzero:
             continue  # the linear part alone here (no contact at this instant): nothing to project
         contact = True
         for k in range(2 * H2):

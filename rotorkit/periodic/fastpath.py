@@ -65,9 +65,11 @@ def _numba_available():
 class CompiledSetup:
     """Arrays and functions the kernels take for one harmonic balance (see :func:`compiled_setup`)."""
 
-    def __init__(self, hb, functions, fit, window, mass):
+    def __init__(self, hb, functions, fit, window, mass, addresses):
         self.hb = hb
         self.rhs, self.jac, self.switches = functions
+        #: the continuation kernel's model functions: their addresses (int64, 6), found once per model structure
+        self.addresses = addresses
         constant, varying, coefficients, s0 = fit
         self.base = np.ascontiguousarray(constant, dtype=float)
         self.varying = np.ascontiguousarray(varying, dtype=np.int64)
@@ -152,7 +154,22 @@ def _new_setup(problem):
 
     switches = numba_function(module, "switches") if hasattr(module, "switches") else _no_switches()
     functions = (numba_function(module, "rhs"), numba_function(module, "jac"), switches)
-    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
+    addresses = _function_addresses(functions)
+    if addresses is None:
+        return None
+    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass, addresses)
+
+
+def _function_addresses(functions):
+    """:func:`~rotorkit.periodic.compiled_functions.function_addresses` of the model's functions, found once per
+    set of functions (kept with them, as :func:`_addressed`)."""
+    key = ("addresses",) + tuple(id(f) for f in functions)
+    found = _ADDRESSED.get(key)
+    if found is None or any(a is not b for a, b in zip(found[0], functions)):
+        from .compiled_functions import function_addresses
+
+        found = _ADDRESSED[key] = (tuple(functions), function_addresses(functions))
+    return found[1]
 
 
 _FITS = {}
@@ -227,11 +244,12 @@ def _cache_name(kind):
     import hashlib
     from pathlib import Path
 
-    from . import compiled, compiled_aft, compiled_folds, compiled_newton, compiled_points, eigen, stability
+    from . import (compiled, compiled_aft, compiled_folds, compiled_functions, compiled_newton, compiled_points, eigen,
+                   stability)
 
     digest = hashlib.sha256()  # every module whose code or constants (stability.STABILITY_TOL) the kernels bake in
-    for path in (compiled.__file__, compiled_aft.__file__, compiled_folds.__file__, compiled_newton.__file__,
-                 compiled_points.__file__, eigen.__file__, stability.__file__):
+    for path in (compiled.__file__, compiled_aft.__file__, compiled_folds.__file__, compiled_functions.__file__,
+                 compiled_newton.__file__, compiled_points.__file__, eigen.__file__, stability.__file__):
         digest.update(Path(path).read_bytes())
     return f"periodic_{kind}-{digest.hexdigest()[:12]}"
 
@@ -247,8 +265,8 @@ def _signature(kind):
     fit = (vec, ivec, mat, vec)  # base, varying, coef, window
     if kind == "continue":
         tables = (mat, types.int64[:, :, ::1], types.float64[:, :, ::1])  # trig, terms, weights
-        return types.Tuple((types.int64, types.int64))(core, jac, core, *common, *fit, *tables, vec, vec, mat, mat,
-                                                       vec, types.boolean[::1])
+        return types.Tuple((types.int64, types.int64))(ivec, *common, *fit, *tables, vec, vec, mat, mat, vec,
+                                                       types.boolean[::1])
     return types.void(core, jac, *common, mat, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
 
 
@@ -305,9 +323,10 @@ def _entry(kind, setup):
     The dispatcher types every argument at each call to pick the overload, and a first-class function
     argument costs it a new numba type per call (about 10 us each); the kernels have a single overload,
     compiled for :func:`_signature`, so the choice is known. The entry point checks no argument type: every
-    array passed is built here with the signature's dtype and C order."""
+    array passed is built here with the signature's dtype and C order. The continuation kernel takes the
+    functions' addresses (:attr:`CompiledSetup.addresses`), arrays like the others: always its entry point."""
     kernel = _kernel(kind)
-    if not setup.addressed:
+    if kind != "continue" and not setup.addressed:
         return kernel
     found = _ENTRIES.get(kind)
     if found is None or found[0] is not kernel:
@@ -364,7 +383,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
         rows = chunk + 1
         out_u, out_t = np.zeros((rows, size + 1)), np.zeros((rows, size + 1))
         out_norm, out_corner = np.zeros(rows), np.zeros(rows, dtype=np.bool_)
-        status, new = kernel(setup.rhs, setup.jac, setup.switches, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
+        status, new = kernel(setup.addresses, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
                              setup.base, setup.varying, setup.coef, setup.window, setup.trig, setup.terms,
                              setup.weights, u0, t0, out_u, out_t, out_norm, out_corner)
         if first:
@@ -421,8 +440,7 @@ def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1, out_u=Non
         out_u = np.zeros((1, size + 1))
     out_norm = np.zeros(1)
     out_corner = np.zeros(max(corner_size, 1), dtype=np.bool_)
-    result = _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
-                                       setup.ints(max_iterations=max_iterations, start=mode, **ints), fl, setup.E,
+    result = _entry("continue", setup)(setup.addresses, setup.ints(max_iterations=max_iterations, start=mode, **ints), fl, setup.E,
                                        setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
                                        setup.window, setup.trig, setup.terms, setup.weights, u0, t0, out_u,
                                        out_u, out_norm, out_corner)
@@ -486,8 +504,7 @@ def grazing_compiled(problem, lam, Z, i, *, tol, max_iterations, steps, tries):
     fl = np.zeros(12)
     fl[0], fl[9] = setup.s0, tol
     out_norm = np.zeros(1)
-    _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
-                              setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries, start=5), fl,
+    _entry("continue", setup)(setup.addresses, setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries, start=5), fl,
                               setup.E, setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
                               setup.window, setup.trig, setup.terms, setup.weights, setup._zero, setup._zero, points,
                               points, out_norm, valid)
