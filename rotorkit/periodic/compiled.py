@@ -23,7 +23,7 @@ harmonics: ``O(N n^2 H)`` per evaluation instead of ``O(N n^2 H^2)``), equal
 to rounding. The algorithm's own economies are the reference's (the corrector's Newton with
 ``lazy_jacobian``, the tangent from the corrector's last Newton matrix); here the lazy Jacobian is
 assembled from the sampled states the last residual left in the workspace (no second residual), and the
-tangent reuses that matrix's LU factors where Newton made them. The predictor's quadratic term lives in
+tangent reuses that matrix's LU factors where Newton made them. The predictor's quadratic and cubic terms live in
 the call: as the kernel runs in calls of 16 points when a progress callback is given, each call starts
 without it (the reference does the same).
 
@@ -324,6 +324,10 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     u_prev = np.empty(m)
     t_prev = np.empty(m)
     curve = np.zeros(m)  # the predictor's quadratic term (_curvature), zero at the first step of a call
+    curve_set = False  # the reference's curve is not None
+    cubic = np.zeros(m)  # the predictor's cubic term b (_cubic), where have_cubic; d_cubic its d_1
+    have_cubic = False
+    d_cubic = 0.0
     while True:
         if count + new >= max_points:
             fl[6] = h
@@ -336,10 +340,16 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         iterations = 0
         norm = 0.0
         quadratic = h * h * vector_norm(curve) <= CURVATURE_SHARE * h  # zero: the same prediction either way
+        with_cubic = quadratic and have_cubic and h * h * h * vector_norm(cubic) <= CURVATURE_SHARE * h
         for i in range(m):
             u_pred[i] = u0[i] + h * t0[i]
             if quadratic:
                 u_pred[i] += h * h * curve[i]
+        if with_cubic:
+            for i in range(m):
+                u_pred[i] += h * h * cubic[i] * d_cubic / 2.0
+            for i in range(m):
+                u_pred[i] += h * h * h * cubic[i] / 3.0
         ok, iterations, norm, factored = _correct(u_pred, t0, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
                                                   coef, window, ws, nb, F, JF)
         if ok and _distance(u1, u_pred, 0.0, u_pred) <= h:
@@ -387,6 +397,15 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         out_norm[new] = norm
         out_corner[new] = corner
         new += 1
+        have_cubic = False
+        if not corner and curve_set:  # _cubic(u_prev, t_prev, u0, t0, u1, t1)
+            d_cubic = _distance(u1, u0, 0.0, u0)
+            if d_cubic != 0.0:
+                d2 = _distance(u0, u_prev, 0.0, u0)
+                for i in range(m):
+                    cubic[i] = ((t1[i] - t0[i]) / d_cubic - (t0[i] - t_prev[i]) / d2) / (d_cubic + d2)
+                have_cubic = True
+        curve_set = not corner and _distance(u1, u0, 0.0, u0) != 0.0
         u_prev[:] = u0
         t_prev[:] = t0
         u0[:] = u1
