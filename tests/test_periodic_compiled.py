@@ -109,6 +109,24 @@ def test_compiled_branch_lies_on_the_closed_form_circle(both):
     assert abs(compiled.bifurcations[-1].parameter - grazing) < 1e-10 * grazing
 
 
+def test_compiled_grazing_fold_equals_the_python_reference(rub_system, both):
+    """The grazing fold located in one kernel call (fastpath.grazing_compiled) and by the Python reference
+    (folds.grazing_point with compiled=False, its Newton solves and switch values one small kernel call each):
+    the same steps, so the same value to the last bit; at the corner, and where the branch's ends cut the
+    window (a piece of a single point)."""
+    from rotorkit.periodic.folds import grazing_point
+
+    compiled = both[0]
+    problem = ContinuationProblem(HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3), "R_speed")
+    assert fastpath.compiled_setup(problem) is not None
+    lam = np.asarray(compiled.parameter)
+    Z = [np.ravel(z) for z in compiled.coefficients]
+    i = [b.index for b in compiled.bifurcations if b.kind == "grazing fold"][0]
+    for k in (i, i - 1, 0, len(lam) - 2):
+        assert grazing_point(problem, lam, Z, k) == grazing_point(problem, lam, Z, k, compiled=False)
+    assert grazing_point(problem, lam, Z, i) == compiled.bifurcations[-1].parameter
+
+
 def test_compiled_progress_and_point_budget(rub_system):
     seen = []
     b = periodic_response(rub_system, speeds=(60.0, 200.0), harmonics=3, max_points=40,

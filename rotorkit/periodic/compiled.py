@@ -23,7 +23,7 @@ harmonics: ``O(N n^2 H)`` per evaluation instead of ``O(N n^2 H^2)``), equal
 to rounding. The algorithm's own economies are the reference's (the corrector's Newton with
 ``lazy_jacobian``, the tangent from the corrector's last Newton matrix); here the lazy Jacobian is
 assembled from the sampled states the last residual left in the workspace (no second residual), and the
-tangent reuses that matrix's LU factors where Newton made them. The predictor's quadratic term lives in
+tangent reuses that matrix's LU factors where Newton made them. The predictor's quadratic and cubic terms live in
 the call: as the kernel runs in calls of 16 points when a progress callback is given, each call starts
 without it (the reference does the same).
 
@@ -39,7 +39,10 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import force_scale_into, jacobian_at_states, residual, switches_of, workspace
+from .compiled_aft import force_scale_into, residual, switches_of, workspace
+from .compiled_folds import grazing_value
+from .compiled_functions import core_function, jac_function
+from .compiled_newton import bordered, buffers, newton, solve_fixed, vector_norm
 from .eigen import lu_factor, lu_solve
 
 __all__ = ["continue_kernel"]
@@ -49,163 +52,6 @@ CURVATURE_SHARE = 0.03
 
 # statuses of continue_kernel
 PAUSED, BUDGET, BOUND, MIN_STEP = 0, 1, 2, 3
-
-
-@numba.njit(cache=False)
-def _buffers(m, size):
-    """Newton's work arrays for ``m`` unknowns (``size`` of them harmonic coefficients):
-    ``(R_new, J_new, LU, piv, dz, x, trial, z, Rz, Jz, plus, column, B, b)``."""
-    return (np.empty(m), np.empty((m, m)), np.empty((m, m)), np.empty(m, dtype=np.int64), np.empty(m), np.empty(m),
-            np.empty(m), np.empty(size), np.empty(size), np.empty((size, size)), np.empty(size), np.empty(size),
-            np.empty((size + 1, size + 1)), np.empty(size + 1))
-
-
-@numba.njit(cache=False)
-def _max_abs(x):
-    """``max |x|`` (nan if an entry is)."""
-    biggest = 0.0
-    for i in range(x.shape[0]):
-        v = abs(x[i])
-        if v > biggest or v != v:
-            biggest = v
-            if v != v:
-                return v
-    return biggest
-
-
-@numba.njit(cache=False)
-def _norm(x):
-    s = 0.0
-    for i in range(x.shape[0]):
-        s += x[i] * x[i]
-    return math.sqrt(s)
-
-
-@numba.njit(cache=False)
-def _bordered(u, u_pred, tvec, column, scale, z_scale, Rz, Jz, want, F, JF):
-    """The corrector's bordered system from the residual ``Rz`` (and Jacobian ``Jz``) at ``u``."""
-    size = Rz.shape[0]
-    s = 0.0
-    for i in range(size + 1):
-        s += tvec[i] * (u[i] - u_pred[i])
-    for i in range(size):
-        F[i] = Rz[i]
-    F[size] = scale * s
-    if want:
-        _bordered_jacobian(tvec, column, scale, z_scale, Jz, JF)
-
-
-@numba.njit(cache=False)
-def _bordered_jacobian(tvec, column, scale, z_scale, Jz, JF):
-    """The corrector's Newton matrix ``[Jz z_s, dR/dlambda l_s; scale t^T]`` from the residual's Jacobian ``Jz``."""
-    size = Jz.shape[0]
-    for r in range(size):
-        for c in range(size):
-            JF[r, c] = Jz[r, c] * z_scale
-        JF[r, size] = column[r]
-    for c in range(size + 1):
-        JF[size, c] = scale * tvec[c]
-
-
-@numba.njit(cache=False)
-def _fun(u, want, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M, base, varying,
-         coef, window, ws, nb, F, JF):
-    """Newton's function: ``mode`` 0 the residual at ``lam_fixed``; 1 the corrector's bordered system."""
-    if mode == 0:
-        return residual(u, lam_fixed, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, F,
-                         JF)
-    z, Rz, Jz = nb[7], nb[8], nb[9]
-    size = z.shape[0]
-    z_scale, l_scale = fl[1], fl[2]
-    for i in range(size):
-        z[i] = u[i] * z_scale
-    lam = u[size] * l_scale
-    ok = residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, Rz, Jz)
-    _bordered(u, u_pred, tvec, column, scale, z_scale, Rz, Jz, want, F, JF)
-    return ok
-
-
-@numba.njit(cache=False)
-def _jacobian_at_trial(mode, tvec, column, scale, jac, ints, fl, E, M, ws, nb, JF):
-    """The Jacobian of Newton's function at the point of the last evaluation, from the states the workspace
-    holds (:func:`~rotorkit.periodic.compiled_aft.jacobian_at_states`): the residual is not evaluated again."""
-    if mode == 0:
-        jacobian_at_states(jac, ints, E, M, ws, JF)
-        return
-    Jz = nb[9]
-    jacobian_at_states(jac, ints, E, M, ws, Jz)
-    _bordered_jacobian(tvec, column, scale, fl[1], Jz, JF)
-
-
-@numba.njit(cache=False)
-def _newton(u, mode, lam_fixed, u_pred, tvec, column, scale, max_iterations, evaluated, lazy, rhs, jac, ints, fl,
-            E, P, ED, M, base, varying, coef, window, ws, nb, R, JF):
-    """:func:`rotorkit.periodic.hb.newton` on ``u`` (in place); returns ``(converged, iterations, norm,
-    factored)`` with the function in ``R`` and the Jacobian at the solution in ``JF`` (both given at ``u`` if
-    ``evaluated``; with ``lazy`` (``lazy_jacobian``) the last Jacobian evaluated); ``factored``: whether
-    ``nb[2]``, ``nb[3]`` hold the regular LU factors of that ``JF``."""
-    m = u.shape[0]
-    tol = fl[9]
-    R_new, J_new, LU, piv, dz, x, trial = nb[0], nb[1], nb[2], nb[3], nb[4], nb[5], nb[6]
-    if not evaluated and not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P,
-                                  ED, M, base, varying, coef, window, ws, nb, R, JF):
-        return False, 0, np.inf, False
-    current = True  # JF is the Jacobian at u
-    factored = False
-    norm = _max_abs(R) / scale
-    for iteration in range(max_iterations + 1):
-        if norm <= tol:
-            return True, iteration, norm, factored
-        if iteration == max_iterations:
-            break
-        if not current:  # the workspace holds the states of u: the last evaluation was there
-            _jacobian_at_trial(mode, tvec, column, scale, jac, ints, fl, E, M, ws, nb, JF)
-            current = True
-        for r in range(m):
-            for c in range(m):
-                LU[r, c] = JF[r, c]
-        factored = lu_factor(LU, piv)
-        for i in range(m):
-            x[i] = -R[i]
-        lu_solve(LU, piv, x, dz)
-        size = _norm(dz)
-        step = 1.0
-        ok = False
-        while True:
-            for i in range(m):
-                trial[i] = u[i] + step * dz[i]
-            finite = _fun(trial, step == 1.0 and not lazy, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac,
-                          ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, R_new, J_new)
-            if finite:
-                for i in range(m):
-                    x[i] = -R_new[i]
-                lu_solve(LU, piv, x, x)
-                ok = _norm(x) <= (1.0 - step / 4.0) * size
-            else:
-                ok = False
-            if ok or step < 1.0 / 128.0:
-                break
-            step *= 0.5
-        for i in range(m):
-            u[i] += step * dz[i]
-        if ok and lazy:
-            for r in range(m):
-                R[r] = R_new[r]
-            current = False
-        elif ok and step == 1.0:
-            for r in range(m):
-                R[r] = R_new[r]
-                for c in range(m):
-                    JF[r, c] = J_new[r, c]
-            factored = False
-        else:
-            factored = False
-            if not _fun(u, True, mode, lam_fixed, u_pred, tvec, column, scale, rhs, jac, ints, fl, E, P, ED, M,
-                        base, varying, coef, window, ws, nb, R, JF):
-                return False, iteration + 1, np.inf, False
-            current = True
-        norm = _max_abs(R) / scale
-    return False, max_iterations, norm, False
 
 
 @numba.njit(cache=False)
@@ -223,7 +69,7 @@ def _tangent(A, reference, t, nb):
         return False
     b[m] = 1.0
     lu_solve(B, piv, b, t)
-    norm = _norm(t)
+    norm = vector_norm(t)
     if not math.isfinite(norm) or norm == 0.0:
         return False
     for i in range(m + 1):
@@ -248,7 +94,7 @@ def _corrected_tangent(factored, JF, t, nb):
         b[c] = 0.0
     b[m - 1] = 1.0
     lu_solve(LU, piv, b, t)
-    norm = _norm(t)
+    norm = vector_norm(t)
     if not math.isfinite(norm) or norm == 0.0:
         return False
     for i in range(m):
@@ -282,7 +128,7 @@ def _full_jacobian(u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, wind
 def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF):
     """The corrector of :func:`~rotorkit.periodic.continuation.continue_branch`: ``(converged, iterations,
     norm, factored)``, the solution in ``u`` and Newton's matrix in ``JF`` (the last evaluated: Newton's
-    ``lazy_jacobian``), ``factored`` as :func:`_newton`'s.
+    ``lazy_jacobian``), ``factored`` as :func:`newton`'s.
 
     ``dR/dlambda`` (frozen at the prediction) is the forward difference of step ``d_lam`` from the residual
     at the prediction, which is also Newton's first evaluation."""
@@ -304,8 +150,8 @@ def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, co
         column[i] *= l_scale
     for i in range(size + 1):
         u[i] = u_pred[i]
-    _bordered(u, u_pred, tvec, column, scale, z_scale, Rz, Jz, True, F, JF)
-    ok, iterations, norm, factored = _newton(u, 1, 0.0, u_pred, tvec, column, scale, ints[5], True, True, rhs, jac,
+    bordered(u, u_pred, tvec, column, scale, z_scale, Rz, Jz, True, F, JF)
+    ok, iterations, norm, factored = newton(u, 1, 0.0, u_pred, tvec, column, scale, ints[5], True, True, rhs, jac,
                                              ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF)
     return ok, iterations, norm, factored
 
@@ -395,37 +241,33 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
 
 
 @numba.njit(cache=False)
-def _solve_fixed(z, lam, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws):
-    """Newton at the fixed parameter ``lam`` from ``z`` (in place, unscaled): ``(converged, iterations, norm)``."""
-    size = z.shape[0]
-    scale = force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
-    nb = _buffers(size, size)
-    R = np.empty(size)
-    JF = np.empty((size, size))
-    return _newton(z, 0, lam, z, z, z, scale, ints[5], False, False, rhs, jac, ints, fl, E, P, ED, M, base, varying,
-                   coef, window, ws, nb, R, JF)[:3]
-
-
-@numba.njit(cache=False)
-def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, u0, t0, out_u, out_t, out_norm,
-                    out_corner):
+def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, trig, terms, weights, u0, t0,
+                    out_u, out_t, out_norm, out_corner):
     """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
     resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent
     is computed first (along ``fl[10]``); ``ints[9] == 2``: only Newton at ``fl[11]`` (tolerance ``fl[9]``) from
     ``u0[:-1]`` (unscaled) into ``out_u[0]``, returning ``(converged, iterations)``; ``ints[9] == 3``: the
     largest amplitude of the linear response (one Newton step from zero) over the parameter values in ``t0``,
     into ``out_norm[0]``; ``ints[9] == 4``: the contact switches at ``(u0[:-1], fl[11])``, the largest value
-    into ``out_norm[0]`` and per switch whether it is positive at some sample into ``out_corner``. Returns ``(status, new points)``; ``fl[6]`` holds the next step."""
+    into ``out_norm[0]`` and per switch whether it is positive at some sample into ``out_corner``; ``ints[9] ==
+    5``: the grazing fold between the points ``out_u`` (6 rows, :func:`~rotorkit.periodic.compiled_folds.grazing_value`;
+    ``out_corner[:6]`` which exist, ``ints[6]`` steps per piece, ``ints[8]`` aims per step) into ``out_norm[0]``.
+    Returns ``(status, new points)``; ``fl[6]`` holds the next step. ``trig``, ``terms``, ``weights``: the AFT
+    Jacobian's tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`); ``functions`` the addresses of the
+    model's ``rhs``, ``jac`` and ``switches`` (:func:`~rotorkit.periodic.compiled_functions.function_addresses`)."""
+    rhs = core_function(functions[0], functions[1])
+    jac = jac_function(functions[2], functions[3])
+    sw = core_function(functions[4], functions[5])
     m = u0.shape[0]
     size = m - 1
     lo, hi = fl[3], fl[4]
     min_step, max_step = fl[7], fl[8]
     contact = ints[4] > 0
     max_new, count, max_points = ints[6], ints[7], ints[8]
-    ws = workspace(ints, E, base)
+    ws = workspace(ints, base, trig, terms, weights)
     if ints[9] == 2:  # Newton at the fixed parameter fl[11] from u0[:size] (unscaled): (converged, iterations)
         z = u0[:size].copy()
-        ok, iterations, norm = _solve_fixed(z, fl[11], rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window,
+        ok, iterations, norm = solve_fixed(z, fl[11], rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window,
                                             ws)
         out_u[0, :size] = z
         out_norm[0] = norm
@@ -456,7 +298,11 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         for k in range(ints[4]):
             out_corner[k] = state[k]
         return 0, 0
-    nb = _buffers(m, size)
+    if ints[9] == 5:  # the grazing fold between the points out_u (unscaled), out_corner which exist
+        out_norm[0] = grazing_value(out_u, out_corner, max_new, max_points, rhs, jac, sw, ints, fl, E, P, ED, M, base,
+                                    varying, coef, window, ws)
+        return 0, 0
+    nb = buffers(m, size)
     F = np.empty(m)
     JF = np.empty((m, m))
     if ints[9]:
@@ -478,6 +324,10 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
     u_prev = np.empty(m)
     t_prev = np.empty(m)
     curve = np.zeros(m)  # the predictor's quadratic term (_curvature), zero at the first step of a call
+    curve_set = False  # the reference's curve is not None
+    cubic = np.zeros(m)  # the predictor's cubic term b (_cubic), where have_cubic; d_cubic its d_1
+    have_cubic = False
+    d_cubic = 0.0
     while True:
         if count + new >= max_points:
             fl[6] = h
@@ -489,11 +339,17 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         corner = False
         iterations = 0
         norm = 0.0
-        quadratic = h * h * _norm(curve) <= CURVATURE_SHARE * h  # zero: the same prediction either way
+        quadratic = h * h * vector_norm(curve) <= CURVATURE_SHARE * h  # zero: the same prediction either way
+        with_cubic = quadratic and have_cubic and h * h * h * vector_norm(cubic) <= CURVATURE_SHARE * h
         for i in range(m):
             u_pred[i] = u0[i] + h * t0[i]
             if quadratic:
                 u_pred[i] += h * h * curve[i]
+        if with_cubic:
+            for i in range(m):
+                u_pred[i] += h * h * cubic[i] * d_cubic / 2.0
+            for i in range(m):
+                u_pred[i] += h * h * h * cubic[i] / 3.0
         ok, iterations, norm, factored = _correct(u_pred, t0, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
                                                   coef, window, ws, nb, F, JF)
         if ok and _distance(u1, u_pred, 0.0, u_pred) <= h:
@@ -522,7 +378,7 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
             for i in range(size):
                 za = u0[i] * fl[1]
                 z[i] = za + w * (u1[i] * fl[1] - za)
-            ok, its, nrm = _solve_fixed(z, bound, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws)
+            ok, its, nrm = solve_fixed(z, bound, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws)
             if ok and np.all(np.isfinite(z)):
                 for i in range(size):
                     out_u[new, i] = z[i]
@@ -541,6 +397,15 @@ def continue_kernel(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, wi
         out_norm[new] = norm
         out_corner[new] = corner
         new += 1
+        have_cubic = False
+        if not corner and curve_set:  # _cubic(u_prev, t_prev, u0, t0, u1, t1)
+            d_cubic = _distance(u1, u0, 0.0, u0)
+            if d_cubic != 0.0:
+                d2 = _distance(u0, u_prev, 0.0, u0)
+                for i in range(m):
+                    cubic[i] = ((t1[i] - t0[i]) / d_cubic - (t0[i] - t_prev[i]) / d2) / (d_cubic + d2)
+                have_cubic = True
+        curve_set = not corner and _distance(u1, u0, 0.0, u0) != 0.0
         u_prev[:] = u0
         t_prev[:] = t0
         u0[:] = u1

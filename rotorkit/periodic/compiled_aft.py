@@ -12,14 +12,15 @@ reference (:class:`~rotorkit.periodic.hb.HarmonicBalance`); the continuation loo
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numba
 import numpy as np
 
 __all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "local_jacobian",
-           "aft_states", "workspace", "frame_into", "residual", "jacobian_at_states", "scale_at_rest", "switches_of",
-           "force_scale_into"]
+           "aft_states", "workspace", "aft_tables", "projection_terms", "frame_into", "residual", "jacobian_at_states",
+           "scale_at_rest", "switches_of", "force_scale_into"]
 
 
 @numba.njit(cache=False)
@@ -128,27 +129,36 @@ def aft_states(z, j, omega, E, ED, n, y):
 
 
 @numba.njit(cache=False)
-def workspace(ints, E, base):
+def workspace(ints, base, trig, terms, weights):
     """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
     ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights)``; ``info`` holds the speed
     of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
-    ``G``, ``S``, ``terms``, ``weights``: :func:`_projection_terms`."""
+    ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G``, ``S`` the
+    Jacobian's sums."""
     n, N = ints[0], ints[2]
-    H2 = E.shape[1]
-    trig = np.empty((N, 2 * H2))  # cos(m tau_j), sin(m tau_j) for m = 0 ... 2H: products of two basis functions
-    for j in range(N):
-        for m in range(H2):
-            angle = 2.0 * np.pi * ((m * j) % N) / N
-            trig[j, 2 * m] = math.cos(angle)
-            trig[j, 2 * m + 1] = math.sin(angle)
-    terms, weights = _projection_terms(H2, N)
+    H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
             np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
             np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights)
 
 
-@numba.njit(cache=False)
-def _projection_terms(H2, N):
+@functools.lru_cache(maxsize=16)
+def aft_tables(H2, N):
+    """``(trig, terms, weights)`` of the AFT Jacobian for ``H2 = 2H + 1`` basis functions and ``N`` samples
+    (plain Python, made once per size and passed to the kernels, which only read them): ``trig`` (N, 2 H2)
+    ``cos(m tau_j)``, ``sin(m tau_j)`` for m = 0 ... 2H (products of two basis functions), ``terms``,
+    ``weights`` (H2, H2, 4): :func:`projection_terms`."""
+    trig = np.empty((N, 2 * H2))
+    for j in range(N):
+        for m in range(H2):
+            angle = 2.0 * np.pi * ((m * j) % N) / N
+            trig[j, 2 * m] = math.cos(angle)
+            trig[j, 2 * m + 1] = math.sin(angle)
+    terms, weights = projection_terms(H2, N)
+    return trig, terms, weights
+
+
+def projection_terms(H2, N):
     """The AFT projection of the sampled force Jacobians, ``F_j`` (coordinates, entries ``G[j, :n n]``) and
     ``V_j`` (velocities, ``G[j, n n:]``), from their sums ``S[2 m] = sum_j cos(m tau_j) G_j`` and
     ``S[2 m + 1] = sum_j sin(m tau_j) G_j``, ``m = 0 ... 2H``: block ``(c, d)`` of
@@ -191,7 +201,7 @@ def _projection_terms(H2, N):
     return terms, weights
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, inline="always")  # inlined: a call passing the work arrays costs ~0.2 us
 def frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws):
     """The frame at ``lam`` into the workspace (:func:`speed_frame`'s values; ``K = -M A_q``, ``C = -M A_v``
     instead of the whole linear operator), unless it holds it already."""
@@ -244,8 +254,15 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
             for l in range(n):
                 s += (K[i, l] - kw * kw * M[i, l]) * z[rb + l]
             R[rb + i] = s
-    for j in range(N):  # the states at all instants first
-        aft_states(z, j, omega, E, ED, n, Y[j])
+    for j in range(N):  # the states at all instants first (aft_states, inline: no call per instant)
+        for i in range(n):
+            q = 0.0
+            v = 0.0
+            for h in range(H2):
+                q += E[j, h] * z[h * n + i]
+                v += ED[j, h] * z[h * n + i]
+            Y[j, i] = q
+            Y[j, n + i] = omega * v
     for j in range(N):
         t = period * j / N
         y = Y[j]
@@ -288,8 +305,7 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
     p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
     Y, Aj, G, S = ws[6], ws[10], ws[11], ws[12]
     trig, terms, weights = ws[13], ws[14], ws[15]
-    nn = n * n
-    Gq, Gv = G[:nn].reshape((n, n)), G[nn:].reshape((n, n))  # views: G is (Fq, Fv) of one instant, flat
+    nn = n * n  # G is (Fq, Fv) of one instant (local_jacobian), flat
     omega, period = info[1], info[2]
     for r in range(size):
         for c in range(size):
@@ -304,7 +320,19 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
             for c in range(2 * n):
                 Aj[r, c] = 0.0
         jac(period * j / N, Y[j], p, Aj)
-        if not local_jacobian(M, Aj, A0, n, Gq, Gv):
+        nonzero = False  # local_jacobian into G, inline (no call per instant)
+        for i in range(n):
+            for l in range(n):
+                sq = 0.0
+                sv = 0.0
+                for k in range(n):
+                    sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
+                    sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
+                G[i * n + l] = sq
+                G[nn + i * n + l] = sv
+                if sq != 0.0 or sv != 0.0:
+                    nonzero = True
+        if not nonzero:
             continue  # the linear part alone here (no contact at this instant): nothing to project
         contact = True
         for k in range(2 * H2):

@@ -9,7 +9,12 @@ before, ``d`` from it; ``a`` is left out where ``h^2 |a|`` exceeds
 :data:`CURVATURE_SHARE` of ``h`` (a kink between the two points: a contact
 sample switching on), at the first step, after a grazing corner and, as the
 compiled kernel runs in calls of :data:`rotorkit.periodic.fastpath.CHUNK` points when a progress
-callback is given, at the first step of each such call. The corrector solves ``R(u) = 0`` on the hyperplane through the
+callback is given, at the first step of each such call. Where the step before had its
+``a`` too, the cubic term of the tangents' parabola through the last three points joins it
+(:func:`_cubic`: ``a`` becomes ``(f_01 + b d_1) / 2`` and ``h^3 b / 3`` is added, ``f_01``, ``f_12``
+the tangents' differences over the last two steps, ``d_1``, ``d_2`` their lengths, ``b = (f_01 -
+f_12) / (d_1 + d_2)``), unless ``h^3 |b|`` exceeds :data:`CURVATURE_SHARE` of ``h``: more
+corrections converge in one Newton iteration. The corrector solves ``R(u) = 0`` on the hyperplane through the
 prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`
 with its ``lazy_jacobian``: a trial point's Jacobian is evaluated only where
 another step follows, and the tangent at the corrected point is taken with
@@ -248,7 +253,7 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
     out.tangents.append(t0 * scales)
     out.residuals.append(0.0)
     h = opts.step
-    curve = None
+    curve = cubic = u_before = t_before = None
     while True:
         if len(out.parameter) >= opts.max_points:
             out.reason = f"point budget of {opts.max_points} points reached"
@@ -260,6 +265,10 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
             u_pred = u0 + h * t0
             if curve is not None and h * h * float(np.linalg.norm(curve)) <= CURVATURE_SHARE * h:
                 u_pred = u_pred + h * h * curve
+                if cubic is not None and h * h * h * float(np.linalg.norm(cubic[0])) <= CURVATURE_SHARE * h:
+                    b, d1 = cubic
+                    u_pred = u_pred + h * h * b * d1 / 2.0
+                    u_pred = u_pred + h * h * h * b / 3.0
             u1, iterations, norm, J1 = correct(u_pred, t0)
             if np.linalg.norm(u1 - u_pred) <= h:
                 t1 = _corrected_tangent(J1)
@@ -298,7 +307,10 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
             out.corners.append(len(out.parameter) - 1)
         if progress is not None:
             progress(len(out.parameter), lam1)
-        curve = None if corner else _curvature(u0, u1, t1, t0)
+        smooth = None if corner else _curvature(u0, u1, t1, t0)
+        cubic = _cubic(u_before, t_before, u0, t0, u1, t1) if smooth is not None and curve is not None else None
+        curve = smooth
+        u_before, t_before = u0, t0
         u0, t0 = u1, t1
         h = min(opts.max_step, h * 1.5) if iterations <= 3 else (h * 0.6 if iterations >= 7 else h)
 
@@ -312,6 +324,18 @@ def _curvature(before, u0, t0, t_before):
     if d == 0.0:
         return None
     return (t0 - t_before) / (2.0 * d)
+
+
+def _cubic(before, t_before, u0, t0, u1, t1):
+    """The predictor's cubic term at ``u1`` from the tangents at the last three points: ``(b, d_1)``, ``b = (f_01 -
+    f_12) / (d_1 + d_2)`` the second divided difference of the tangents in arclength (``f_01 = (t1 - t0) / d_1``,
+    ``f_12 = (t0 - t_before) / d_2``, ``d_1 = |u1 - u0|``, ``d_2 = |u0 - before|``, both nonzero where the
+    quadratic terms of the two steps exist): the tangents' parabola ``t(s) = t1 + (f_01 + b d_1) s + b s^2``
+    integrated over a step ``h`` gives ``h t1 + h^2 (f_01 + b d_1) / 2 + h^3 b / 3``, whose ``h^2 f_01 / 2`` is the
+    quadratic term."""
+    d1 = float(np.linalg.norm(u1 - u0))
+    d2 = float(np.linalg.norm(u0 - before))
+    return ((t1 - t0) / d1 - (t0 - t_before) / d2) / (d1 + d2), d1
 
 
 def _corrected_tangent(J):

@@ -42,8 +42,9 @@ import os
 
 import numpy as np
 
-__all__ = ["MAX_COORDINATES", "MAX_UNKNOWNS", "compile_kernels", "kernels_compiled", "compiled_setup", "continue_compiled", "solve_compiled",
-           "linear_scale_compiled", "switches_compiled", "point_data"]
+__all__ = ["MAX_COORDINATES", "MAX_UNKNOWNS", "compile_kernels", "kernels_compiled", "compiled_setup",
+           "continue_compiled", "solve_compiled", "linear_scale_compiled", "switches_compiled", "grazing_compiled",
+           "point_data"]
 
 #: points per call of the continuation kernel when a progress callback is given; each call starts the predictor
 #: afresh (no quadratic term at its first step), and so does the Python reference
@@ -64,9 +65,11 @@ def _numba_available():
 class CompiledSetup:
     """Arrays and functions the kernels take for one harmonic balance (see :func:`compiled_setup`)."""
 
-    def __init__(self, hb, functions, fit, window, mass):
+    def __init__(self, hb, functions, fit, window, mass, addresses):
         self.hb = hb
         self.rhs, self.jac, self.switches = functions
+        #: the continuation kernel's model functions: their addresses (int64, 6), found once per model structure
+        self.addresses = addresses
         constant, varying, coefficients, s0 = fit
         self.base = np.ascontiguousarray(constant, dtype=float)
         self.varying = np.ascontiguousarray(varying, dtype=np.int64)
@@ -79,6 +82,11 @@ class CompiledSetup:
         self.ED = np.ascontiguousarray(hb.ED)
         self.size = hb.size
         self.n_switches = hb.system.n_switches
+        from .compiled_aft import aft_tables
+
+        #: the AFT Jacobian's tables, made once per size (the kernels only read them)
+        self.trig, self.terms, self.weights = aft_tables(2 * hb.harmonics + 1, hb.samples)
+        self._zero = np.zeros(self.size + 1)  # read-only input of the small calls' unused arguments
         self._switches_seen = {}  # (lambda, z bytes) -> (gap, state) of the last few points asked
         self._ints = np.zeros(11, dtype=np.int64)
         self._ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, self.n_switches
@@ -146,7 +154,22 @@ def _new_setup(problem):
 
     switches = numba_function(module, "switches") if hasattr(module, "switches") else _no_switches()
     functions = (numba_function(module, "rhs"), numba_function(module, "jac"), switches)
-    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass)
+    addresses = _function_addresses(functions)
+    if addresses is None:
+        return None
+    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass, addresses)
+
+
+def _function_addresses(functions):
+    """:func:`~rotorkit.periodic.compiled_functions.function_addresses` of the model's functions, found once per
+    set of functions (kept with them, as :func:`_addressed`)."""
+    key = ("addresses",) + tuple(id(f) for f in functions)
+    found = _ADDRESSED.get(key)
+    if found is None or any(a is not b for a, b in zip(found[0], functions)):
+        from .compiled_functions import function_addresses
+
+        found = _ADDRESSED[key] = (tuple(functions), function_addresses(functions))
+    return found[1]
 
 
 _FITS = {}
@@ -221,11 +244,12 @@ def _cache_name(kind):
     import hashlib
     from pathlib import Path
 
-    from . import compiled, compiled_aft, compiled_points, eigen, stability
+    from . import (compiled, compiled_aft, compiled_folds, compiled_functions, compiled_newton, compiled_points, eigen,
+                   stability)
 
     digest = hashlib.sha256()  # every module whose code or constants (stability.STABILITY_TOL) the kernels bake in
-    for path in (compiled.__file__, compiled_aft.__file__, compiled_points.__file__, eigen.__file__,
-                 stability.__file__):
+    for path in (compiled.__file__, compiled_aft.__file__, compiled_folds.__file__, compiled_functions.__file__,
+                 compiled_newton.__file__, compiled_points.__file__, eigen.__file__, stability.__file__):
         digest.update(Path(path).read_bytes())
     return f"periodic_{kind}-{digest.hexdigest()[:12]}"
 
@@ -240,7 +264,8 @@ def _signature(kind):
     common = (ivec, vec, mat, mat, mat, mat)  # ints, fl, E, P, ED, M
     fit = (vec, ivec, mat, vec)  # base, varying, coef, window
     if kind == "continue":
-        return types.Tuple((types.int64, types.int64))(core, jac, core, *common, *fit, vec, vec, mat, mat, vec,
+        tables = (mat, types.int64[:, :, ::1], types.float64[:, :, ::1])  # trig, terms, weights
+        return types.Tuple((types.int64, types.int64))(ivec, *common, *fit, *tables, vec, vec, mat, mat, vec,
                                                        types.boolean[::1])
     return types.void(core, jac, *common, mat, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
 
@@ -298,9 +323,10 @@ def _entry(kind, setup):
     The dispatcher types every argument at each call to pick the overload, and a first-class function
     argument costs it a new numba type per call (about 10 us each); the kernels have a single overload,
     compiled for :func:`_signature`, so the choice is known. The entry point checks no argument type: every
-    array passed is built here with the signature's dtype and C order."""
+    array passed is built here with the signature's dtype and C order. The continuation kernel takes the
+    functions' addresses (:attr:`CompiledSetup.addresses`), arrays like the others: always its entry point."""
     kernel = _kernel(kind)
-    if not setup.addressed:
+    if kind != "continue" and not setup.addressed:
         return kernel
     found = _ENTRIES.get(kind)
     if found is None or found[0] is not kernel:
@@ -357,9 +383,9 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
         rows = chunk + 1
         out_u, out_t = np.zeros((rows, size + 1)), np.zeros((rows, size + 1))
         out_norm, out_corner = np.zeros(rows), np.zeros(rows, dtype=np.bool_)
-        status, new = kernel(setup.rhs, setup.jac, setup.switches, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
-                             setup.base, setup.varying, setup.coef, setup.window, u0, t0, out_u, out_t, out_norm,
-                             out_corner)
+        status, new = kernel(setup.addresses, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
+                             setup.base, setup.varying, setup.coef, setup.window, setup.trig, setup.terms,
+                             setup.weights, u0, t0, out_u, out_t, out_norm, out_corner)
         if first:
             if status < 0:
                 return False  # a singular start tangent: the Python path raises its error
@@ -400,20 +426,24 @@ def solve_compiled(problem, guess, lam, *, tol, max_iterations):
     u0[:-1] = np.ravel(guess)
     fl = np.zeros(12)
     fl[0], fl[9], fl[11] = setup.s0, tol, lam
-    (converged, _), z, _, _ = _call(setup, 2, u0, np.zeros(setup.size + 1), fl, max_iterations=max_iterations)
+    (converged, _), z, _, _ = _call(setup, 2, u0, setup._zero, fl, max_iterations=max_iterations)
     return z.copy(), bool(converged)
 
 
-def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1):
+def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1, out_u=None, **ints):
+    """One call of the continuation kernel in mode ``mode`` (its small services): ``(result, z, norm,
+    out_corner)``, ``z`` the first row of ``out_u`` (a view)."""
     size = setup.size
     if u0.shape != (size + 1,) or u0.dtype != np.float64:  # the entry point checks nothing (see _entry)
         raise ValueError(f"expected {size} harmonic-balance unknowns, got shape {u0.shape[:1]}")
-    out_u, out_norm = np.zeros((1, size + 1)), np.zeros(1)
+    if out_u is None:
+        out_u = np.zeros((1, size + 1))
+    out_norm = np.zeros(1)
     out_corner = np.zeros(max(corner_size, 1), dtype=np.bool_)
-    result = _entry("continue", setup)(setup.rhs, setup.jac, setup.switches,
-                                       setup.ints(max_iterations=max_iterations, start=mode), fl, setup.E, setup.P,
-                                       setup.ED, setup.mass, setup.base, setup.varying, setup.coef, setup.window, u0,
-                                       t0, out_u, np.zeros((1, size + 1)), out_norm, out_corner)
+    result = _entry("continue", setup)(setup.addresses, setup.ints(max_iterations=max_iterations, start=mode, **ints), fl, setup.E,
+                                       setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
+                                       setup.window, setup.trig, setup.terms, setup.weights, u0, t0, out_u,
+                                       out_u, out_norm, out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -446,12 +476,39 @@ def switches_compiled(problem, z, lam):
     fl = np.zeros(12)
     fl[0], fl[11] = setup.s0, lam
     ns = setup.n_switches
-    _, _, gap, state = _call(setup, 4, u0, np.zeros(setup.size + 1), fl, corner_size=ns)
+    _, _, gap, state = _call(setup, 4, u0, setup._zero, fl, corner_size=ns)
     found = float(gap), state[:ns].copy()
     if len(seen) >= 8:
         seen.pop(next(iter(seen)))
     seen[key] = found
     return found
+
+
+def grazing_compiled(problem, lam, Z, i, *, tol, max_iterations, steps, tries):
+    """:func:`~rotorkit.periodic.folds.grazing_point` between the points ``i`` and ``i + 1`` of a branch
+    (parameters ``lam``, coefficients ``Z``) in one kernel call
+    (:func:`~rotorkit.periodic.compiled_folds.grazing_value`): Newton to ``tol`` in at most
+    ``max_iterations`` iterations, ``steps`` steps per piece, ``tries`` aims per step; None where the compiled
+    path does not apply."""
+    setup = compiled_setup(problem)
+    if setup is None:
+        return None
+    size = setup.size
+    points = np.zeros((6, size + 1))
+    valid = np.zeros(max(6, setup.n_switches), dtype=np.bool_)
+    for row, k in enumerate(range(i - 2, i + 4)):
+        if 0 <= k < len(lam):
+            points[row, :size] = np.ravel(Z[k])
+            points[row, size] = lam[k]
+            valid[row] = True
+    fl = np.zeros(12)
+    fl[0], fl[9] = setup.s0, tol
+    out_norm = np.zeros(1)
+    _entry("continue", setup)(setup.addresses, setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries, start=5), fl,
+                              setup.E, setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
+                              setup.window, setup.trig, setup.terms, setup.weights, setup._zero, setup._zero, points,
+                              points, out_norm, valid)
+    return float(out_norm[0])
 
 
 def point_data(problem, parameter, coefficients, stability, grid_factor):

@@ -17,8 +17,14 @@ from .errors import ConvergenceError
 
 __all__ = ["grazing_point", "turning_point"]
 
+#: the Newton solves on a piece: tolerance and iterations
+#: (:meth:`~rotorkit.periodic.continuation.ContinuationProblem.solve`)
+SOLVE_TOL, SOLVE_ITERATIONS = 1e-10, 20
+#: steps along a piece towards the grazing (:func:`_piece_to_grazing`), aims per step (:func:`_step_on_piece`)
+PIECE_STEPS, STEP_TRIES = 10, 30
 
-def grazing_point(problem, lam, Z, i):
+
+def grazing_point(problem, lam, Z, i, *, compiled=True):
     """The parameter where the branch grazes between points ``i`` and ``i + 1`` (on two pieces: some contact
     switch is active at some instant on one side and at none on the other).
 
@@ -27,7 +33,18 @@ def grazing_point(problem, lam, Z, i):
     third has the same contact state); only if that does not converge is the other piece followed too, and the
     two values averaged (a piece with a single point, at an end of the branch, comes last and gives that
     point's value).
+
+    Where the compiled path applies (:mod:`rotorkit.periodic.fastpath`) the same steps run in one kernel call
+    (:func:`rotorkit.periodic.fastpath.grazing_compiled`) unless ``compiled`` is False; the code here is the
+    reference.
     """
+    if compiled:
+        from .fastpath import grazing_compiled
+
+        found = grazing_compiled(problem, lam, Z, i, tol=SOLVE_TOL, max_iterations=SOLVE_ITERATIONS,
+                                 steps=PIECE_STEPS, tries=STEP_TRIES)
+        if found is not None:
+            return found
     pieces = []
     for piece in ((i - 2, i - 1, i), (i + 3, i + 2, i + 1)):
         near = piece[2]
@@ -75,7 +92,7 @@ def _interpolate(points, g, coefficients=True):
     return lam, z
 
 
-def _piece_to_grazing(problem, points, state, iterations=10):
+def _piece_to_grazing(problem, points, state, iterations=PIECE_STEPS):
     """The parameter where the penetration along one piece is zero.
 
     ``points``: ``(gap, lambda, z)`` of two or three solutions on the piece, in order towards the corner;
@@ -115,12 +132,12 @@ def _step_on_piece(problem, points, aim, state, size):
     """The solution ``(gap, lambda, z)`` on the piece interpolated at gap ``aim`` (halved towards the last
     point's while Newton fails there or finds the other piece), or None."""
     g_b = points[-1][0]
-    for _ in range(30):
+    for _ in range(STEP_TRIES):
         l_c, guess = _interpolate(points[-3:], aim)
         if not math.isfinite(l_c):
             return None
         try:
-            z_c = problem.solve(guess, l_c, tol=1e-10, max_iterations=20)
+            z_c = problem.solve(guess, l_c, tol=SOLVE_TOL, max_iterations=SOLVE_ITERATIONS)
             g_c = problem.gap(z_c, l_c)
             if all(g_c != g for g, _, _ in points[-2:]) and (
                     abs(g_c) <= 1e-6 * size or np.array_equal(problem.contact_state(z_c, l_c), state)):
