@@ -64,7 +64,7 @@ TRACK_OVERLAP = 0.9
 @numba.njit(cache=False)
 def hill_workspace(n, H):
     """The work arrays of Hill's multipliers along a branch (n coordinates, H harmonics), made once:
-    ``(y, Aj, f, F, -, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors,
+    ``(y, Aj, f, F, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors,
     centres, lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest)``;
     ``lam_state``, ``vec_state``, ``lam_older``, ``info``, ``lam_oldest``: the state carried from point to point
     (:func:`hill_step`), ``info`` zeroed (no previous point)."""
@@ -73,7 +73,7 @@ def hill_workspace(n, H):
     nn = n * n
     c16 = np.complex128
     return (np.empty(2 * n), np.empty((2 * n, 2 * n)),
-            np.empty(2 * nn), np.empty((2 * H2, 2 * nn)), np.empty(0), np.empty(H2), np.empty(H2),
+            np.empty(2 * nn), np.empty((2 * H2, 2 * nn)), np.empty(H2), np.empty(H2),
             np.empty((size, size)), np.empty((size, size)),
             np.empty((size, size)), np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.int64),
             np.empty((size, size), dtype=c16), np.empty(size, dtype=c16), np.empty(size, dtype=c16),
@@ -86,10 +86,10 @@ def hill_workspace(n, H):
 
 
 @numba.njit(cache=False)
-def _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, ws):
+def _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, sn, Q, V):
     """The lower blocks ``A21``, ``A22`` of Hill's matrix ``[[0, I], [A21, A22]]`` of
     :func:`rotorkit.periodic.stability.hill_exponents` into the workspace, on the frame ``p``, ``A0``,
-    ``omega``, ``period`` at the point's speed.
+    ``omega``, ``period`` at the point's speed (work arrays of :func:`hill_workspace`).
 
     The reference's ``A21 = -kron(I, M^-1) (Kt + Ct kron(wD, I) + kron(wD^2, M))`` and
     ``A22 = -kron(I, M^-1) (2 kron(wD, M) + Ct)``, with ``Kt = K0 - proj(M Dq)``, ``Ct = C0 - proj(M Dv)``,
@@ -97,7 +97,6 @@ def _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, ws):
     samples), without the mass matrix, which cancels: ``A21 = Q + V kron(wD, I) - kron(wD^2, I)`` and
     ``A22 = V - 2 kron(wD, I)``, ``Q = blockdiag(A_q) + proj(Dq)``, ``V = blockdiag(A_v) + proj(Dv)`` (equal to
     rounding)."""
-    y, Aj, f, F, cs, sn, Q, V = ws[0], ws[1], ws[2], ws[3], ws[5], ws[6], ws[7], ws[8]
     n, H, N = ints[0], ints[1], ints[2]
     H2 = 2 * H + 1
     nn = n * n
@@ -237,10 +236,9 @@ def _shifted(x, n, H, s, out):
 
 
 @numba.njit(cache=False)
-def _null_vector(A21, A22, lam, ws, x):
+def _null_vector(A21, A22, lam, Gr, ur, piv, G, x):
     """The null vector ``x`` of ``A21 + lam A22 - lam^2 I`` (:func:`~rotorkit.periodic.eigen.null_vector_into`),
     in real arithmetic for a real ``lam`` (the complex computation's values)."""
-    Gr, ur, piv, G = ws[9], ws[10], ws[13], ws[14]
     size = A21.shape[0]
     if lam.imag == 0.0:
         s = lam.real
@@ -260,18 +258,17 @@ def _null_vector(A21, A22, lam, ws, x):
 
 
 @numba.njit(cache=False)
-def _centres(A21, A22, wr, wi, n, H, vectors, centre, ws):
+def _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x):
     """The centre (:func:`_centre_of`) of each Hill eigenvector into ``centre``, the eigenvectors' harmonic parts
     into ``vectors`` (one row per eigenvalue): the null vector ``p`` of ``A21 + lam A22 - lam^2 I``, a
     conjugate eigenvalue's the conjugate vector (centre: minus the partner's)."""
     size = n * (2 * H + 1)
     count = 2 * size
     done = np.zeros(count, dtype=np.bool_)
-    x = ws[16]
     for e in range(count):
         if done[e]:
             continue
-        _null_vector(A21, A22, complex(wr[e], wi[e]), ws, x)
+        _null_vector(A21, A22, complex(wr[e], wi[e]), Gr, ur, piv, G, x)
         centre[e] = _centre_of(x, n, H)
         vectors[e, :] = x
         done[e] = True
@@ -335,12 +332,12 @@ def _multipliers(lam, period, mu_re, mu_im):
 
 
 @numba.njit(cache=False)
-def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, ws):
+def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, big, wr, wi, vectors, centre, Gr, ur, piv, G,
+               x):
     """Hill's exponents by the full method: all eigenvalues of the companion matrix (:func:`eigenvalues`),
     the centre of every eigenvector, the selection. Into ``lam_kept`` (2n), their eigenvectors ``vec_kept``
     (2n, size) and centres; returns ``(ok, runner)`` (False if the QR iteration fails or fewer than ``2n``
     families; ``runner`` as :func:`_select`'s)."""
-    big, wr, wi, vectors, centre, G, piv = ws[19], ws[20], ws[21], ws[22], ws[23], ws[14], ws[13]
     size = n * (2 * H + 1)
     big[:, :] = 0.0
     for i in range(size):
@@ -350,7 +347,7 @@ def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, ws):
             big[size + i, size + col] = A22[i, col]
     if not eigenvalues(big, wr, wi):
         return False, 0.0
-    _centres(A21, A22, wr, wi, n, H, vectors, centre, ws)
+    _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x)
     kept, runner = _select(wr, wi, centre, n, omega)
     for q in range(kept.shape[0]):
         i = kept[q]
@@ -361,7 +358,6 @@ def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, ws):
         lam_kept[q] = np.nan
     # a double eigenvalue kept twice has one null vector from complex_null_vector twice: for following, a second
     # one from another right-hand side (independent if the eigenvalue is semisimple; else following fails)
-    x = ws[16]
     for q in range(kept.shape[0]):
         for r in range(q):
             if (abs(lam_kept[q] - lam_kept[r]) <= 1e-8 * (abs(lam_kept[q]) + omega)
@@ -382,12 +378,10 @@ def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, ws):
 
 
 @numba.njit(cache=False)
-def _follow(A21, A22, n0, n1, sigma, u, ws):
+def _follow(A21, A22, n0, n1, sigma, u, Gr, ur, wr, br, invr, piv, G, w, b, inv):
     """:func:`~rotorkit.periodic.eigen.eigenpair_near` of Hill's quadratic problem from the shift ``sigma`` and
     the start vector ``u`` (replaced by the eigenvector): ``(lam, converged)``; in real arithmetic where both
     are real (the complex iteration's values)."""
-    Gr, ur, wr, br, piv, G, w, b, invr, inv = ws[9], ws[10], ws[11], ws[12], ws[13], ws[14], ws[17], ws[18], \
-        ws[32], ws[33]
     real = sigma.imag == 0.0
     for r in range(u.shape[0]):
         real = real and u[r].imag == 0.0
@@ -402,7 +396,8 @@ def _follow(A21, A22, n0, n1, sigma, u, ws):
 
 
 @numba.njit(cache=False)
-def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, vec_kept, centre_kept, ws):
+def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, vec_kept, centre_kept, u, x, Gr, ur, wr,
+                  br, invr, piv, G, w, b, inv):
     """Hill's exponents followed from the previous point's (``lam_prev``, ``vec_prev``) by shifted inverse
     iteration (:func:`_follow`) from the shifts ``sigma`` (predicted exponents), a conjugate pair's second
     member by conjugation, into ``lam_kept``, ``vec_kept``, ``centre_kept``.
@@ -414,7 +409,6 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, ve
     copies of each other."""
     size = n * (2 * H + 1)
     count = 2 * n
-    u, x = ws[15], ws[16]
     n0, n1 = row_norms(A22, A21)
     used = np.zeros(count, dtype=np.bool_)
     for q in range(count):
@@ -433,7 +427,7 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, ve
             centre_kept[q] = -centre_kept[partner]
             continue
         u[:] = vec_prev[q]
-        lam, ok = _follow(A21, A22, n0, n1, sigma[q], u, ws)
+        lam, ok = _follow(A21, A22, n0, n1, sigma[q], u, Gr, ur, wr, br, invr, piv, G, w, b, inv)
         if not ok:
             return False
         if _overlap(u, vec_prev[q]) < TRACK_OVERLAP:  # the eigenvector close to its predecessor's
@@ -446,7 +440,7 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, ve
             # lie about one harmonic apart (further copies could compete)
             s = 1 if centre > 0.0 else -1
             _shifted(u, n, H, s, x)
-            other, ok = _follow(A21, A22, n0, n1, lam + s * 1j * omega, x, ws)
+            other, ok = _follow(A21, A22, n0, n1, lam + s * 1j * omega, x, Gr, ur, wr, br, invr, piv, G, w, b, inv)
             if not ok or not _is_copy(other, lam, omega, 1e-6):
                 return False
             centre_other = _centre_of(x, n, H)
@@ -540,14 +534,15 @@ def hill_step(z, omega, p, A0, jac, ints, E, ED, mu_re, mu_im, track, ws):
     a copy of a kept one at least ``RUNNER_CENTRE`` off centre)."""
     n, H = ints[0], ints[1]
     period = 2.0 * np.pi / omega
-    _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, ws)
-    A21, A22 = ws[7], ws[8]
-    lam_new, vec_new, centre, sigma = ws[24], ws[25], ws[26], ws[27]
-    lam_state, vec_state, lam_older, info, lam_oldest = ws[28], ws[29], ws[30], ws[31], ws[34]
+    # the work arrays unpacked once: a tuple passed to a function costs a reference count per member
+    y, Aj, f, F, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors, centres = ws[:23]
+    lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest = ws[23:]
+    _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, sn, A21, A22)
     count = 2 * n
     if track and info[0] == 1 and info[1] < ANCHOR_EVERY - 1:
         _shifts(lam_state, lam_older, lam_oldest, info, sigma)
-        if _hill_tracked(A21, A22, n, H, omega, lam_state, vec_state, sigma, lam_new, vec_new, centre, ws):
+        if _hill_tracked(A21, A22, n, H, omega, lam_state, vec_state, sigma, lam_new, vec_new, centre, u, x, Gr, ur, wr,
+                         br, invr, piv, G, w, b, inv):
             unstable = _multipliers(lam_new, period, mu_re, mu_im)
             if unstable == info[2]:
                 lam_oldest[:] = lam_older
@@ -558,7 +553,8 @@ def hill_step(z, omega, p, A0, jac, ints, E, ED, mu_re, mu_im, track, ws):
                 info[4] = info[3]
                 info[3] = 1
                 return True, True
-    ok, runner = _hill_full(A21, A22, n, H, omega, lam_new, vec_new, centre, ws)
+    ok, runner = _hill_full(A21, A22, n, H, omega, lam_new, vec_new, centre, big, re, im, vectors, centres, Gr, ur, piv,
+                            G, x)
     unstable = _multipliers(lam_new, period, mu_re, mu_im)
     clear = ok and runner >= RUNNER_CENTRE
     for q in range(count):
