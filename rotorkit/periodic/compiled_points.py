@@ -41,26 +41,34 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
     acc = np.empty(n)
     rest, rest_f = np.zeros(2 * n), np.empty((ints[2], n))  # the state at rest, the forces there per instant
     ws = hill_workspace(n, ints[1])
+    # the synthesis of q, q', q'' on the grid per coordinate, the grid's instants contiguous (each entry summed
+    # over the harmonics in their order, as a sum per instant would)
+    EGt, EDGt, EDDGt = EG.T.copy(), EDG.T.copy(), EDDG.T.copy()
+    Yq, Yv, Ya = np.empty((n, G)), np.empty((n, G)), np.empty((n, G))
     for pt in range(lams.shape[0]):
         lam = lams[pt]
         z = Zs[pt]
         omega = speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
         scale = scale_at_rest(rhs, p, 2.0 * np.pi / omega, n, ints[2], M, P, rest, a, rest_f)  # this frame's
+        for i in range(n):
+            rq, rv, ra = Yq[i], Yv[i], Ya[i]
+            rq[:] = 0.0
+            rv[:] = 0.0
+            ra[:] = 0.0
+            for h in range(H2):
+                c = z[h * n + i]
+                eq, ev, ea = EGt[h], EDGt[h], EDDGt[h]
+                for j in range(G):
+                    rq[j] += eq[j] * c
+                    rv[j] += ev[j] * c
+                    ra[j] += ea[j] * c
         worst = 0.0
         for j in range(G):
             t = 2.0 * np.pi * j / (G * omega)
             for i in range(n):
-                q = 0.0
-                v = 0.0
-                w2 = 0.0
-                for h in range(H2):
-                    c = z[h * n + i]
-                    q += EG[j, h] * c
-                    v += EDG[j, h] * c
-                    w2 += EDDG[j, h] * c
-                y[i] = q
-                y[n + i] = omega * v
-                acc[i] = omega * omega * w2
+                y[i] = Yq[i, j]
+                y[n + i] = omega * Yv[i, j]
+                acc[i] = omega * omega * Ya[i, j]
             a[:] = 0.0
             rhs(t, y, p, a)
             for i in range(n):
