@@ -1,4 +1,4 @@
-"""Hill's exponents followed along a branch (rotorkit.periodic.compiled_points.hill_branch) against the full
+"""Hill's exponents followed along a branch (rotorkit.periodic.compiled_hill.hill_branch) against the full
 method at every point and against numpy/LAPACK.
 
 The full method (all eigenvalues of Hill's companion matrix, the centre of every eigenvector, the selection of
@@ -57,6 +57,44 @@ def test_quadratic_eigenpair_against_lapack():
     assert not once(A1, A0, sigma, u)[1]
 
 
+
+def test_a_real_shift_is_followed_in_real_arithmetic():
+    """A real exponent (an overdamped pair: lam^2 + 30 lam + 100 ~ 0 per coordinate) followed from a real shift
+    and a real start vector in real arithmetic (eigen.eigenpair_near on real arrays) gives the complex
+    iteration's eigenpair (whose imaginary parts stay zero) and LAPACK's eigenvalue."""
+    from rotorkit.periodic.eigen import eigenpair_near, quadratic_eigenpair, row_norms
+
+    @numba.njit
+    def complex_run(A1, A0, sigma, u):
+        return quadratic_eigenpair(A1, A0, sigma, u)
+
+    @numba.njit
+    def real_run(A1, A0, sigma, u):
+        m = A0.shape[0]
+        n0, n1 = row_norms(A1, A0)
+        return eigenpair_near(A1, A0, n0, n1, sigma, u, np.empty((m, m)), np.empty(m, dtype=np.int64),
+                              np.empty(m), np.empty(m), np.empty(m))
+
+    rng = np.random.default_rng(3)
+    m = 8
+    A1 = -30.0 * np.eye(m) + rng.standard_normal((m, m))
+    A0 = -100.0 * np.eye(m) + 3.0 * rng.standard_normal((m, m))
+    lam, V = np.linalg.eig(np.block([[np.zeros((m, m)), np.eye(m)], [A0, A1]]))
+    real = np.flatnonzero(np.abs(lam.imag) < 1e-12)
+    assert len(real) >= 2
+    for k in real:
+        gap = np.sort(np.abs(lam - lam[k]))[1]
+        sigma = float(lam[k].real + 0.05 * gap)
+        u = np.real(V[:m, k]) + 0.1 * rng.standard_normal(m)
+        got, ok = real_run(A1, A0, sigma, u.copy())
+        uc = u.astype(complex)
+        expected, ok_c = complex_run(A1, A0, complex(sigma), uc)
+        assert ok and ok_c
+        assert isinstance(got, float)
+        assert abs(got - expected.real) <= 1e-14 * abs(expected) and expected.imag == 0.0
+        assert abs(got - lam[k].real) < 1e-12 * np.max(np.abs(lam))
+
+
 def jeffcott(anisotropy=1.0):
     from rotorkit.elements import LinearBearing
 
@@ -70,7 +108,7 @@ def jeffcott(anisotropy=1.0):
 
 def hill_both(system, lam, Z, harmonics, monkeypatch):
     """Multipliers of the points (lam, Z) in the given order, followed and by the full method at every point."""
-    from rotorkit.periodic.compiled_points import hill_branch
+    from rotorkit.periodic.compiled_hill import hill_branch
 
     monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "1")
     hb = HarmonicBalance(system, speed_parameter="R_speed", harmonics=harmonics)
@@ -100,7 +138,7 @@ def same_sets(a, b, tol):
 @pytest.mark.slow  # compiles the Hill kernel (~40 s on a loaded machine)
 @pytest.mark.parametrize("anisotropy", [1.0, 1.3])
 def test_followed_multipliers_equal_the_full_method_along_a_branch(anisotropy, monkeypatch):
-    from rotorkit.periodic.compiled_points import ANCHOR_EVERY
+    from rotorkit.periodic.compiled_hill import ANCHOR_EVERY
 
     system = jeffcott(anisotropy)
     with monkeypatch.context() as patch:

@@ -21,7 +21,8 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["lu_factor", "lu_solve", "eigenvalues", "complex_lu", "complex_null_vector", "quadratic_eigenpair"]
+__all__ = ["lu_factor", "lu_solve", "eigenvalues", "complex_lu", "floored_lu", "inverse_solve", "complex_null_vector",
+           "null_vector_into", "quadratic_eigenpair", "row_norms", "eigenpair_near"]
 
 
 @numba.njit(cache=False)
@@ -288,7 +289,14 @@ def _size(c):
 def complex_lu(G, piv):
     """In-place LU with partial pivoting of the complex square ``G`` (pivots by ``|re| + |im|`` as LAPACK's), a
     pivot below ``1e-17`` times the largest entry replaced by that floor (a nearly singular ``G`` is wanted
-    here: inverse iteration); solve with :func:`lu_solve`."""
+    here: inverse iteration); solve with :func:`lu_solve`. A real ``G`` gives the values of the complex
+    computation on it (zero imaginary parts stay zero)."""
+    floored_lu(G, piv, np.empty(G.shape[0], dtype=G.dtype))
+
+
+@numba.njit(cache=False)
+def floored_lu(G, piv, inv):
+    """:func:`complex_lu`, the reciprocals of the pivots into ``inv`` (for :func:`inverse_solve`)."""
     m = G.shape[0]
     big = 0.0
     for i in range(m):
@@ -308,6 +316,7 @@ def complex_lu(G, piv):
         if _size(G[k, k]) < floor:
             G[k, k] = floor
         inverse = 1.0 / G[k, k]
+        inv[k] = inverse
         for i in range(k + 1, m):
             f = G[i, k] * inverse
             G[i, k] = f
@@ -317,13 +326,39 @@ def complex_lu(G, piv):
 
 
 @numba.njit(cache=False)
+def inverse_solve(LU, piv, inv, x):
+    """``x = A^-1 x`` in place from :func:`floored_lu`'s factors, dividing by the pivots as multiplying by their
+    reciprocals ``inv`` (a complex division costs several multiplications)."""
+    m = LU.shape[0]
+    for k in range(m):
+        p = piv[k]
+        if p != k:
+            x[k], x[p] = x[p], x[k]
+    for i in range(m):
+        s = x[i]
+        for j in range(i):
+            s -= LU[i, j] * x[j]
+        x[i] = s
+    for i in range(m - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, m):
+            s -= LU[i, j] * x[j]
+        x[i] = s * inv[i]
+
+
+@numba.njit(cache=False)
 def complex_null_vector(G, x):
     """A vector ``x`` with ``G x ~ 0`` for a nearly singular complex ``G`` (destroyed): one inverse-iteration
     step, ``G x = e`` (``e`` all ones) by :func:`complex_lu` and :func:`lu_solve`."""
-    m = G.shape[0]
-    piv = np.empty(m, dtype=np.int64)
+    null_vector_into(G, np.empty(G.shape[0], dtype=np.int64), x)
+
+
+@numba.njit(cache=False)
+def null_vector_into(G, piv, x):
+    """:func:`complex_null_vector` with the pivot array given; real or complex (a real ``G`` with a real ``x``
+    gives the complex computation's values: its imaginary parts stay zero)."""
     complex_lu(G, piv)
-    for i in range(m):
+    for i in range(G.shape[0]):
         x[i] = 1.0
     lu_solve(G, piv, x, x)
 
@@ -339,18 +374,8 @@ def _quadratic_matrix(A1, A0, s, G):
 
 
 @numba.njit(cache=False)
-def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
-    """The eigenpair ``(lam, u)`` of ``lam^2 u = lam A1 u + A0 u`` nearest ``sigma`` (complex; the eigenvalue of
-    the companion matrix ``[[0, I], [A0, A1]]`` nearest it) by shifted inverse iteration from the start vector
-    ``u`` (complex, replaced by the eigenvector, unit norm).
-
-    Inverse iteration on the companion matrix, each step one solve with ``A0 + s A1 - s^2 I`` (size ``m``, not
-    ``2m``); up to ``steps`` steps per shift ``s``, the shift then moved to the eigenvalue estimate (at most
-    ``max_shifts`` factorisations). Converged when two successive estimates agree to ``rtol`` times
-    ``|lam| + sqrt(||A0||) + ||A1||`` and the residual ``||(A0 + lam A1 - lam^2 I) u||`` is below
-    ``1e3 * rtol`` times ``(||A0|| + |lam| ||A1|| + |lam|^2)`` (norms: largest absolute row sums). Returns
-    ``(lam, converged)``.
-    """
+def row_norms(A1, A0):
+    """``(||A0||, ||A1||)``: the largest absolute row sums of two square matrices (:func:`eigenpair_near`)."""
     m = A0.shape[0]
     n0 = 0.0
     n1 = 0.0
@@ -362,10 +387,39 @@ def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
             s1 += abs(A1[r, c])
         n0 = max(n0, s0)
         n1 = max(n1, s1)
+    return n0, n1
+
+
+@numba.njit(cache=False)
+def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
+    """The eigenpair ``(lam, u)`` of ``lam^2 u = lam A1 u + A0 u`` nearest ``sigma`` (complex; the eigenvalue of
+    the companion matrix ``[[0, I], [A0, A1]]`` nearest it) by shifted inverse iteration from the start vector
+    ``u`` (complex, replaced by the eigenvector, unit norm).
+
+    Inverse iteration on the companion matrix, each step one solve with ``A0 + s A1 - s^2 I`` (size ``m``, not
+    ``2m``); up to ``steps`` steps per shift ``s``, the shift then moved to the eigenvalue estimate (at most
+    ``max_shifts`` factorisations). Converged when two successive estimates agree to ``rtol`` times
+    ``|lam| + sqrt(||A0||) + ||A1||`` and the residual ``||(A0 + lam A1 - lam^2 I) u||`` is below
+    ``1e3 * rtol`` times ``(||A0|| + |lam| ||A1|| + |lam|^2)`` (norms: largest absolute row sums). Returns
+    ``(lam, converged)``. The work of :func:`eigenpair_near`, with its norms and work arrays made here.
+    """
+    m = A0.shape[0]
+    n0, n1 = row_norms(A1, A0)
     G = np.empty((m, m), dtype=np.complex128)
     piv = np.empty(m, dtype=np.int64)
     w = np.empty(m, dtype=np.complex128)
     b = np.empty(m, dtype=np.complex128)
+    inv = np.empty(m, dtype=np.complex128)
+    return eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts, steps, rtol)
+
+
+@numba.njit(cache=False)
+def eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts=3, steps=4, rtol=1e-12):
+    """:func:`quadratic_eigenpair` with the norms ``n0 = ||A0||``, ``n1 = ||A1||`` (:func:`row_norms`) and the
+    work arrays ``G`` (m, m), ``piv``, ``w``, ``b``, ``inv`` (m) given. Complex (``sigma``, ``u``, the work arrays
+    complex) or real (all of them real: the iteration from a real shift and a real start vector, whose complex
+    form stays real to the last bit, at a quarter of the cost); ``lam`` of the type of ``sigma``."""
+    m = A0.shape[0]
     for r in range(m):
         w[r] = sigma * u[r]
     lam = sigma
@@ -374,7 +428,7 @@ def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
     for shift in range(max_shifts):
         s = lam
         _quadratic_matrix(A1, A0, s, G)
-        complex_lu(G, piv)
+        floored_lu(G, piv, inv)
         for step in range(steps):
             # (C - s I) [u'; w'] = [u; w]: (A0 + s A1 - s^2 I) u' = w - (A1 - s I) u, w' = u + s u'
             for r in range(m):
@@ -382,8 +436,8 @@ def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
                 for c in range(m):
                     t -= A1[r, c] * u[c]
                 b[r] = t
-            lu_solve(G, piv, b, b)
-            num = 0.0j
+            inverse_solve(G, piv, inv, b)
+            num = sigma * 0.0  # zero of the shift's type (the shift is finite)
             den = 0.0
             size = 0.0
             for r in range(m):
@@ -404,10 +458,12 @@ def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
                 # the residual of the quadratic problem at (lam, u)
                 worst = 0.0
                 for r in range(m):
-                    t = -lam * lam * u[r]
+                    t0 = u[r] * 0.0
+                    t1 = u[r] * 0.0
                     for c in range(m):
-                        t += (A0[r, c] + lam * A1[r, c]) * u[c]
-                    worst = max(worst, abs(t))
+                        t0 += A0[r, c] * u[c]
+                        t1 += A1[r, c] * u[c]
+                    worst = max(worst, abs(t0 + lam * t1 - lam * lam * u[r]))
                 norm = 0.0
                 for r in range(m):
                     norm = max(norm, abs(u[r]))

@@ -1,0 +1,589 @@
+"""numba kernel of Hill's multipliers along a branch for the compiled harmonic-balance path.
+
+It repeats :func:`~rotorkit.periodic.stability.hill_multipliers` on the frame of each point (prepared
+parameters and Jacobian at rest of :func:`rotorkit.periodic.compiled_aft.speed_frame`, built once per point
+by the caller); the work arrays are made once per branch (:func:`hill_workspace`). Its caller is
+:func:`rotorkit.periodic.compiled_points.point_data_kernel`; :func:`hill_branch` runs it alone (tests).
+
+Hill's multipliers along a branch
+    The full method (:func:`_hill_full`) is the Python one: all
+    eigenvalues of Hill's companion matrix (:func:`~rotorkit.periodic.eigen.eigenvalues`),
+    the centre of every eigenvector, the selection. Consecutive points of a
+    branch have close exponents, so the kernel follows the previous point's
+    ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse
+    iteration on the quadratic eigenproblem from the previous exponents,
+    extrapolated, and their eigenvectors; a conjugate by conjugation; a real
+    exponent followed in real arithmetic, the same values), a few solves of
+    size ``n (2H + 1)`` instead of a QR iteration of twice that size. It
+    keeps a followed set only where it is the full method's selection on the
+    evidence at hand: each exponent converged to an eigenvector close to its
+    predecessor's and is its family's most centred member (within
+    ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
+    one harmonic nearer the centre, their centres about one harmonic apart),
+    the ``2n`` are distinct families (or a double eigenvalue with independent
+    eigenvectors), and the number of multipliers outside the unit circle is
+    the previous point's (a stability change is always decided by the full
+    method). Otherwise, at the first point and at least every
+    ``ANCHOR_EVERY`` points, the full method runs; following resumes only
+    from a full solve whose selection is clear-cut (the other exponents, not
+    copies of the kept ones, at least ``RUNNER_CENTRE`` off centre).
+    tests/test_periodic_hill_tracking.py compares both at every point of
+    branches through folds.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .compiled_aft import aft_states, speed_frame
+from .eigen import complex_lu, eigenpair_near, eigenvalues, lu_solve, null_vector_into, row_norms
+from .stability import STABILITY_TOL
+
+__all__ = ["hill_workspace", "hill_step", "hill_branch", "ANCHOR_EVERY", "TRACK_CENTRE", "RUNNER_CENTRE",
+           "TRACK_OVERLAP", "COPY_SPREAD", "DOUBLE_OVERLAP"]
+
+#: a full solve of Hill's eigenproblem at least every ANCHOR_EVERY points of a branch
+ANCHOR_EVERY = 64
+#: a followed exponent's eigenvector centred within TRACK_CENTRE harmonics (its copies then lie >= 1 - this off)
+TRACK_CENTRE = 0.3
+#: a followed exponent centred beyond TRACK_CENTRE is compared with its copy one harmonic nearer the centre: the
+#: two centres must lie 1 +- COPY_SPREAD apart
+COPY_SPREAD = 0.2
+#: two followed exponents equal to rounding count as a double eigenvalue only if their eigenvectors' overlap is
+#: below DOUBLE_OVERLAP (else they converged to one exponent: the full method instead)
+DOUBLE_OVERLAP = 0.5
+#: following starts only from a full solve whose other exponents (not copies of kept ones) lie this far off
+RUNNER_CENTRE = 0.7
+#: a followed eigenvector's overlap |<u, u_prev>| / (|u| |u_prev|) with its predecessor's at least
+TRACK_OVERLAP = 0.9
+
+
+@numba.njit(cache=False)
+def hill_workspace(n, H):
+    """The work arrays of Hill's multipliers along a branch (n coordinates, H harmonics), made once:
+    ``(y, Aj, f, F, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors,
+    centres, lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest)``;
+    ``lam_state``, ``vec_state``, ``lam_older``, ``info``, ``lam_oldest``: the state carried from point to point
+    (:func:`hill_step`), ``info`` zeroed (no previous point)."""
+    H2 = 2 * H + 1
+    size = n * H2
+    nn = n * n
+    c16 = np.complex128
+    return (np.empty(2 * n), np.empty((2 * n, 2 * n)),
+            np.empty(2 * nn), np.empty((2 * H2, 2 * nn)), np.empty(H2), np.empty(H2),
+            np.empty((size, size)), np.empty((size, size)),
+            np.empty((size, size)), np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.int64),
+            np.empty((size, size), dtype=c16), np.empty(size, dtype=c16), np.empty(size, dtype=c16),
+            np.empty(size, dtype=c16), np.empty(size, dtype=c16),
+            np.empty((2 * size, 2 * size)), np.empty(2 * size), np.empty(2 * size), np.empty((2 * size, size), dtype=c16),
+            np.empty(2 * size),
+            np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n), np.empty(2 * n, dtype=c16),
+            np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n, dtype=c16),
+            np.zeros(5, dtype=np.int64), np.empty(size), np.empty(size, dtype=c16), np.empty(2 * n, dtype=c16))
+
+
+@numba.njit(cache=False)
+def _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, sn, Q, V):
+    """The lower blocks ``A21``, ``A22`` of Hill's matrix ``[[0, I], [A21, A22]]`` of
+    :func:`rotorkit.periodic.stability.hill_exponents` into the workspace, on the frame ``p``, ``A0``,
+    ``omega``, ``period`` at the point's speed (work arrays of :func:`hill_workspace`).
+
+    The reference's ``A21 = -kron(I, M^-1) (Kt + Ct kron(wD, I) + kron(wD^2, M))`` and
+    ``A22 = -kron(I, M^-1) (2 kron(wD, M) + Ct)``, with ``Kt = K0 - proj(M Dq)``, ``Ct = C0 - proj(M Dv)``,
+    ``K0 = -M A_q``, ``C0 = -M A_v`` (``Dq``, ``Dv`` the acceleration Jacobian's change from rest at the AFT
+    samples), without the mass matrix, which cancels: ``A21 = Q + V kron(wD, I) - kron(wD^2, I)`` and
+    ``A22 = V - 2 kron(wD, I)``, ``Q = blockdiag(A_q) + proj(Dq)``, ``V = blockdiag(A_v) + proj(Dv)`` (equal to
+    rounding)."""
+    n, H, N = ints[0], ints[1], ints[2]
+    H2 = 2 * H + 1
+    nn = n * n
+    # proj(D) = P diag(D_j) E block by block: P[c, j] E[j, d] is a product of two of 1, cos a t, sin a t, a sum
+    # of cos m t and sin m t (m <= 2H): the sums F[2 m] = sum_j cos(m t_j) D_j, F[2 m + 1] = sum_j sin(m t_j) D_j
+    # give every block (the same sums as the products, fewer operations); D_j = (Dq, Dv) flat in f
+    F[:, :] = 0.0
+    for j in range(N):
+        aft_states(z, j, omega, E, ED, n, y)
+        Aj[:, :] = 0.0
+        jac(period * j / N, y, p, Aj)
+        contact = False
+        for i in range(n):
+            for l in range(n):
+                dq = Aj[n + i, l] - A0[n + i, l]
+                dv = Aj[n + i, n + l] - A0[n + i, n + l]
+                f[i * n + l] = dq
+                f[nn + i * n + l] = dv
+                contact = contact or dq != 0.0 or dv != 0.0
+        if not contact:  # the linear part alone at this instant: nothing to project
+            continue
+        cs[0], sn[0] = 1.0, 0.0
+        for m in range(1, H + 1):
+            cs[m], sn[m] = E[j, 2 * m - 1], E[j, 2 * m]
+        for m in range(H + 1, H2):  # cos/sin (H + k) t from the addition theorems
+            k = m - H
+            cs[m] = cs[H] * cs[k] - sn[H] * sn[k]
+            sn[m] = sn[H] * cs[k] + cs[H] * sn[k]
+        for m in range(H2):
+            cm, sm = cs[m], sn[m]
+            for r in range(2 * nn):
+                F[2 * m, r] += cm * f[r]
+                F[2 * m + 1, r] += sm * f[r]
+    Q[:, :] = 0.0
+    V[:, :] = 0.0
+    for h in range(H2):
+        for i in range(n):
+            for l in range(n):
+                Q[h * n + i, h * n + l] = A0[n + i, l]
+                V[h * n + i, h * n + l] = A0[n + i, n + l]
+    for c in range(H2):
+        a = (c + 1) // 2  # harmonic of row block c; kind: 0 constant, 1 cos, 2 sin
+        ka = 0 if c == 0 else 2 - c % 2
+        weight = (1.0 if c == 0 else 2.0) / N
+        for d in range(H2):
+            b = (d + 1) // 2
+            kb = 0 if d == 0 else 2 - d % 2
+            lo = abs(a - b)
+            sg = 1.0 if a >= b else -1.0
+            hi = a + b
+            # the block's sum c1 F[k1] + c2 F[k2] (rows 2 m: cosines, 2 m + 1: sines): a product of two basis
+            # functions is half a sum of two
+            k1, c1, k2, c2 = 0, 1.0, 0, 0.0
+            if ka == 0 and kb == 0:
+                pass
+            elif ka == 0:
+                k1 = 2 * b if kb == 1 else 2 * b + 1
+                k2 = k1
+            elif kb == 0:
+                k1 = 2 * a if ka == 1 else 2 * a + 1
+                k2 = k1
+            elif ka == 1 and kb == 1:  # cos a cos b
+                k1, c1, k2, c2 = 2 * lo, 0.5, 2 * hi, 0.5
+            elif ka == 2 and kb == 2:  # sin a sin b
+                k1, c1, k2, c2 = 2 * lo, 0.5, 2 * hi, -0.5
+            elif ka == 1:  # cos a sin b
+                k1, c1, k2, c2 = 2 * hi + 1, 0.5, 2 * lo + 1, -0.5 * sg
+            else:  # sin a cos b
+                k1, c1, k2, c2 = 2 * hi + 1, 0.5, 2 * lo + 1, 0.5 * sg
+            for i in range(n):
+                for l in range(n):
+                    e = i * n + l
+                    Q[c * n + i, d * n + l] += weight * (c1 * F[k1, e] + c2 * F[k2, e])
+                    V[c * n + i, d * n + l] += weight * (c1 * F[k1, nn + e] + c2 * F[k2, nn + e])
+    # wD (H2, H2) has wD[2k-1, 2k] = k w, wD[2k, 2k-1] = -k w, and wD^2 = diag(0, -(w k)^2 twice per k)
+    size = n * H2
+    for r in range(size):
+        for k in range(1, H + 1):
+            wk = omega * k
+            for l in range(n):
+                Q[r, 2 * k * n + l] += wk * V[r, (2 * k - 1) * n + l]
+                Q[r, (2 * k - 1) * n + l] -= wk * V[r, 2 * k * n + l]
+    for k in range(1, H + 1):
+        wk = omega * k
+        ca, sb = (2 * k - 1) * n, 2 * k * n
+        for i in range(n):
+            Q[ca + i, ca + i] += wk * wk
+            Q[sb + i, sb + i] += wk * wk
+            V[ca + i, sb + i] -= 2.0 * wk
+            V[sb + i, ca + i] += 2.0 * wk
+
+
+@numba.njit(cache=False)
+def _centre_of(x, n, H):
+    """The weighted mean harmonic ``sum k |c_k|^2 / sum |c_k|^2`` of the real-basis coefficients ``x`` (size
+    ``n (2H + 1)``, complex) of a Hill eigenvector (:func:`rotorkit.periodic.stability.hill_exponents`)."""
+    total = 0.0
+    weighted = 0.0
+    for i in range(n):
+        total += x[i].real ** 2 + x[i].imag ** 2
+    for k in range(1, H + 1):
+        for i in range(n):
+            a = x[(2 * k - 1) * n + i]
+            b = x[2 * k * n + i]
+            minus = a - 1j * b
+            plus = a + 1j * b
+            pm = (minus.real ** 2 + minus.imag ** 2) / 4.0  # |c_k|^2, c_k = (a_k - i b_k) / 2
+            pp = (plus.real ** 2 + plus.imag ** 2) / 4.0  # |c_-k|^2
+            total += pm + pp
+            weighted += k * (pm - pp)
+    return weighted / max(total, 1e-300)
+
+
+@numba.njit(cache=False)
+def _harmonic(x, n, i, k):
+    """The complex harmonic ``c_k`` (``k = -H ... H``) of coordinate ``i`` of the real-basis coefficients ``x``:
+    ``c_0 = x_0``, ``c_+-k = (a_k -+ i b_k) / 2``."""
+    if k == 0:
+        return x[i] + 0.0j
+    a = x[(2 * abs(k) - 1) * n + i]
+    b = x[2 * abs(k) * n + i]
+    return (a - 1j * b) / 2.0 if k > 0 else (a + 1j * b) / 2.0
+
+
+@numba.njit(cache=False)
+def _shifted(x, n, H, s, out):
+    """The real-basis coefficients of ``x`` with every complex harmonic moved down by ``s`` (``c'_k = c_{k+s}``,
+    zero beyond ``H``): the eigenvector's estimate of the copy ``lambda + i s w`` (centre minus ``s``), a start
+    vector of the copy's inverse iteration."""
+    for i in range(n):
+        out[i] = _harmonic(x, n, i, s)
+        for k in range(1, H + 1):
+            plus = _harmonic(x, n, i, k + s) if abs(k + s) <= H else 0.0j
+            minus = _harmonic(x, n, i, -k + s) if abs(-k + s) <= H else 0.0j
+            out[(2 * k - 1) * n + i] = plus + minus  # a_k = c_k + c_-k, b_k = i (c_k - c_-k)
+            out[2 * k * n + i] = 1j * (plus - minus)
+
+
+@numba.njit(cache=False)
+def _null_vector(A21, A22, lam, Gr, ur, piv, G, x):
+    """The null vector ``x`` of ``A21 + lam A22 - lam^2 I`` (:func:`~rotorkit.periodic.eigen.null_vector_into`),
+    in real arithmetic for a real ``lam`` (the complex computation's values)."""
+    size = A21.shape[0]
+    if lam.imag == 0.0:
+        s = lam.real
+        for r in range(size):
+            for c in range(size):
+                Gr[r, c] = A21[r, c] + s * A22[r, c]
+            Gr[r, r] -= s * s
+        null_vector_into(Gr, piv, ur)
+        for r in range(size):
+            x[r] = ur[r]
+        return
+    for r in range(size):
+        for c in range(size):
+            G[r, c] = A21[r, c] + lam * A22[r, c]
+        G[r, r] -= lam * lam
+    null_vector_into(G, piv, x)
+
+
+@numba.njit(cache=False)
+def _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x):
+    """The centre (:func:`_centre_of`) of each Hill eigenvector into ``centre``, the eigenvectors' harmonic parts
+    into ``vectors`` (one row per eigenvalue): the null vector ``p`` of ``A21 + lam A22 - lam^2 I``, a
+    conjugate eigenvalue's the conjugate vector (centre: minus the partner's)."""
+    size = n * (2 * H + 1)
+    count = 2 * size
+    done = np.zeros(count, dtype=np.bool_)
+    for e in range(count):
+        if done[e]:
+            continue
+        _null_vector(A21, A22, complex(wr[e], wi[e]), Gr, ur, piv, G, x)
+        centre[e] = _centre_of(x, n, H)
+        vectors[e, :] = x
+        done[e] = True
+        if wi[e] != 0.0:  # the conjugate eigenvalue: the conjugate vector, harmonics mirrored
+            for f in range(count):
+                if not done[f] and wr[f] == wr[e] and wi[f] == -wi[e]:
+                    centre[f] = -centre[e]
+                    for r in range(size):
+                        vectors[f, r] = x[r].conjugate()
+                    done[f] = True
+                    break
+
+
+@numba.njit(cache=False)
+def _is_copy(a, b, omega, tol):
+    """Whether ``(a - b) / (i w)`` is a nonzero integer to ``tol`` (the same Floquet multiplier)."""
+    d = (a - b) / (1j * omega)
+    rd = math.floor(d.real + 0.5)
+    return abs(d.imag) < tol and rd != 0 and abs(d.real - rd) < tol
+
+
+@numba.njit(cache=False)
+def _select(wr, wi, centre, n, omega):
+    """The selection of :func:`rotorkit.periodic.stability.hill_multipliers`: the indices of the ``2n`` most
+    centred exponents, one per family ``lambda + i k w`` (fewer if there are not as many families), and the
+    smallest ``|centre|`` of the others that are not copies of a kept one (inf if none)."""
+    count = wr.shape[0]
+    order = np.argsort(np.abs(centre), kind="mergesort")
+    kept = np.empty(2 * n, dtype=np.int64)
+    nk = 0
+    runner = np.inf
+    for o in range(count):
+        i = order[o]
+        copy = False
+        for q in range(nk):
+            j = kept[q]
+            if _is_copy(complex(wr[i], wi[i]), complex(wr[j], wi[j]), omega, 1e-6):
+                copy = True
+                break
+        if copy:
+            continue
+        if nk == 2 * n:
+            runner = abs(centre[i])
+            break
+        kept[nk] = i
+        nk += 1
+    return kept[:nk], runner
+
+
+@numba.njit(cache=False)
+def _multipliers(lam, period, mu_re, mu_im):
+    """``exp(lam T)`` into ``mu_re + i mu_im``; the number outside the unit circle (``|mu| > 1 + tol``)."""
+    unstable = 0
+    for q in range(lam.shape[0]):
+        mag = math.exp(lam[q].real * period)
+        mu_re[q] = mag * math.cos(lam[q].imag * period)
+        mu_im[q] = mag * math.sin(lam[q].imag * period)
+        if mag > 1.0 + STABILITY_TOL:
+            unstable += 1
+    return unstable
+
+
+@numba.njit(cache=False)
+def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, big, wr, wi, vectors, centre, Gr, ur, piv, G,
+               x):
+    """Hill's exponents by the full method: all eigenvalues of the companion matrix (:func:`eigenvalues`),
+    the centre of every eigenvector, the selection. Into ``lam_kept`` (2n), their eigenvectors ``vec_kept``
+    (2n, size) and centres; returns ``(ok, runner)`` (False if the QR iteration fails or fewer than ``2n``
+    families; ``runner`` as :func:`_select`'s)."""
+    size = n * (2 * H + 1)
+    big[:, :] = 0.0
+    for i in range(size):
+        big[i, size + i] = 1.0
+        for col in range(size):
+            big[size + i, col] = A21[i, col]
+            big[size + i, size + col] = A22[i, col]
+    if not eigenvalues(big, wr, wi):
+        return False, 0.0
+    _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x)
+    kept, runner = _select(wr, wi, centre, n, omega)
+    for q in range(kept.shape[0]):
+        i = kept[q]
+        lam_kept[q] = complex(wr[i], wi[i])
+        vec_kept[q, :] = vectors[i]
+        centre_kept[q] = centre[i]
+    for q in range(kept.shape[0], 2 * n):
+        lam_kept[q] = np.nan
+    # a double eigenvalue kept twice has one null vector from complex_null_vector twice: for following, a second
+    # one from another right-hand side (independent if the eigenvalue is semisimple; else following fails)
+    for q in range(kept.shape[0]):
+        for r in range(q):
+            if (abs(lam_kept[q] - lam_kept[r]) <= 1e-8 * (abs(lam_kept[q]) + omega)
+                    and _overlap(vec_kept[q], vec_kept[r]) > DOUBLE_OVERLAP):
+                lam_q = lam_kept[q]
+                for i in range(size):
+                    for c in range(size):
+                        G[i, c] = A21[i, c] + lam_q * A22[i, c]
+                    G[i, i] -= lam_q * lam_q
+                complex_lu(G, piv)
+                for i in range(size):
+                    x[i] = (i + 1.0) * (-1.0) ** i
+                lu_solve(G, piv, x, x)
+                vec_kept[q, :] = x
+                centre_kept[q] = _centre_of(x, n, H)
+                break
+    return kept.shape[0] == 2 * n, runner
+
+
+@numba.njit(cache=False)
+def _follow(A21, A22, n0, n1, sigma, u, Gr, ur, wr, br, invr, piv, G, w, b, inv):
+    """:func:`~rotorkit.periodic.eigen.eigenpair_near` of Hill's quadratic problem from the shift ``sigma`` and
+    the start vector ``u`` (replaced by the eigenvector): ``(lam, converged)``; in real arithmetic where both
+    are real (the complex iteration's values)."""
+    real = sigma.imag == 0.0
+    for r in range(u.shape[0]):
+        real = real and u[r].imag == 0.0
+    if real:
+        for r in range(u.shape[0]):
+            ur[r] = u[r].real
+        lam, ok = eigenpair_near(A22, A21, n0, n1, sigma.real, ur, Gr, piv, wr, br, invr)
+        for r in range(u.shape[0]):
+            u[r] = ur[r]
+        return complex(lam, 0.0), ok
+    return eigenpair_near(A22, A21, n0, n1, sigma, u, G, piv, w, b, inv)
+
+
+@numba.njit(cache=False)
+def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, vec_kept, centre_kept, u, x, Gr, ur, wr,
+                  br, invr, piv, G, w, b, inv):
+    """Hill's exponents followed from the previous point's (``lam_prev``, ``vec_prev``) by shifted inverse
+    iteration (:func:`_follow`) from the shifts ``sigma`` (predicted exponents), a conjugate pair's second
+    member by conjugation, into ``lam_kept``, ``vec_kept``, ``centre_kept``.
+
+    False (then the full method runs instead) unless every exponent converged to an eigenvector close to its
+    predecessor's (overlap ``TRACK_OVERLAP``) and is its family's most centred member (centred within
+    ``TRACK_CENTRE``, or compared with its copy one harmonic nearer the centre, as the full method compares
+    them), and the ``2n`` exponents are distinct (or a double eigenvalue with independent eigenvectors) and no
+    copies of each other."""
+    size = n * (2 * H + 1)
+    count = 2 * n
+    n0, n1 = row_norms(A22, A21)
+    used = np.zeros(count, dtype=np.bool_)
+    for q in range(count):
+        partner = -1
+        if lam_prev[q].imag != 0.0:
+            for r in range(q):
+                if not used[r] and lam_prev[r] == lam_prev[q].conjugate():
+                    partner = r
+                    used[r] = True  # one partner each, and a mirrored exponent is no partner
+                    used[q] = True
+                    break
+        if partner >= 0:
+            lam_kept[q] = lam_kept[partner].conjugate()
+            for r in range(size):
+                vec_kept[q, r] = vec_kept[partner, r].conjugate()
+            centre_kept[q] = -centre_kept[partner]
+            continue
+        u[:] = vec_prev[q]
+        lam, ok = _follow(A21, A22, n0, n1, sigma[q], u, Gr, ur, wr, br, invr, piv, G, w, b, inv)
+        if not ok:
+            return False
+        if _overlap(u, vec_prev[q]) < TRACK_OVERLAP:  # the eigenvector close to its predecessor's
+            return False
+        centre = _centre_of(u, n, H)
+        if abs(centre) > TRACK_CENTRE:
+            # the copy lam + i s w (s the sign of the centre: its eigenvector shifted by -s harmonics) may be
+            # more centred (the full method keeps the more centred of the two): follow it too, from u shifted,
+            # keep the more centred; not if the two are no exact copies of each other or their centres do not
+            # lie about one harmonic apart (further copies could compete)
+            s = 1 if centre > 0.0 else -1
+            _shifted(u, n, H, s, x)
+            other, ok = _follow(A21, A22, n0, n1, lam + s * 1j * omega, x, Gr, ur, wr, br, invr, piv, G, w, b, inv)
+            if not ok or not _is_copy(other, lam, omega, 1e-6):
+                return False
+            centre_other = _centre_of(x, n, H)
+            if abs(centre - centre_other) < 1.0 - COPY_SPREAD or abs(centre - centre_other) > 1.0 + COPY_SPREAD:
+                return False
+            if abs(centre_other) < abs(centre):
+                lam, centre = other, centre_other
+                u[:] = x
+            if abs(centre) > 0.5 + COPY_SPREAD / 2:
+                return False
+        lam_kept[q] = lam
+        vec_kept[q, :] = u
+        centre_kept[q] = centre
+    for a in range(count):
+        for b in range(a):
+            if abs(lam_kept[a] - lam_kept[b]) <= 1e-8 * (abs(lam_kept[a]) + omega):
+                # the same eigenvalue twice: a double eigenvalue (the full method keeps both) only if the two
+                # eigenvectors are independent, else two exponents converged to one
+                if _overlap(vec_kept[a], vec_kept[b]) > DOUBLE_OVERLAP:
+                    return False
+            elif _is_copy(lam_kept[a], lam_kept[b], omega, 1e-3):
+                return False
+    return True
+
+
+@numba.njit(cache=False)
+def _overlap(x, y):
+    """``|<x, y>| / (|x| |y|)``."""
+    dot = 0.0j
+    nx = 0.0
+    ny = 0.0
+    for r in range(x.shape[0]):
+        dot += x[r].conjugate() * y[r]
+        nx += x[r].real ** 2 + x[r].imag ** 2
+        ny += y[r].real ** 2 + y[r].imag ** 2
+    return abs(dot) / max(math.sqrt(nx * ny), 1e-300)
+
+
+@numba.njit(cache=False)
+def _nearest(x, values, skip):
+    """The index of the entry of ``values`` nearest ``x`` (not ``skip``) and the squared distance."""
+    best, near = -1, np.inf
+    for r in range(values.shape[0]):
+        if r != skip:
+            d = x - values[r]
+            d2 = d.real * d.real + d.imag * d.imag
+            if d2 < near:
+                best, near = r, d2
+    return best, near
+
+
+@numba.njit(cache=False)
+def _shifts(lam_state, lam_older, lam_oldest, info, sigma):
+    """The predicted exponents ``sigma``: the previous ones, extrapolated where the points before had them
+    (each matched to its nearest predecessor, within a quarter of the distance to its own nearest neighbour):
+    linearly from the point before (``info[3]``), quadratically from the two before (``info[4]``) unless the
+    second difference is not the smaller (then linearly)."""
+    count = lam_state.shape[0]
+    sigma[:] = lam_state
+    if info[3] != 1:
+        return
+    for q in range(count):
+        a = lam_state[q]
+        r, near = _nearest(a, lam_older, -1)
+        apart = _nearest(a, lam_state, q)[1]
+        if not near < apart / 16:  # squared distances: near < apart / 4
+            continue
+        b = lam_older[r]
+        sigma[q] = a + (a - b)
+        if info[4] == 1:
+            c_at, near_c = _nearest(b, lam_oldest, -1)
+            if near_c < _nearest(b, lam_older, r)[1] / 16:
+                curve = (a - b) - (b - lam_oldest[c_at])
+                if abs(curve) < abs(a - b):
+                    sigma[q] += curve
+
+
+@numba.njit(cache=False)
+def hill_step(z, omega, p, A0, jac, ints, E, ED, mu_re, mu_im, track, ws):
+    """Hill's multipliers of one point of a branch into ``mu_re + i mu_im`` (2n): ``(ok, tracked)``; the frame
+    at the point's speed ``p``, ``A0``, ``omega`` (:func:`~rotorkit.periodic.compiled_aft.speed_frame`), the
+    work arrays and the state carried from the previous point ``ws`` (:func:`hill_workspace`).
+
+    ``track``: follow the exponents of the previous point (``lam_state``, ``vec_state``, ``info``: whether
+    they may be followed, points since the last full solve, the previous point's number of unstable
+    multipliers, whether ``lam_older`` and ``lam_oldest`` hold the exponents of the two points before, to
+    extrapolate from: :func:`_shifts`) where :func:`_hill_tracked` accepts them, at most ``ANCHOR_EVERY - 1``
+    points in a row and not where the number of unstable multipliers changes; else (and always at the first
+    point) the full method :func:`_hill_full`, after which following is allowed only when its selection is
+    clear-cut (every kept exponent centred within ``0.5 + COPY_SPREAD / 2``, every other exponent that is not
+    a copy of a kept one at least ``RUNNER_CENTRE`` off centre)."""
+    n, H = ints[0], ints[1]
+    period = 2.0 * np.pi / omega
+    # the work arrays unpacked once: a tuple passed to a function costs a reference count per member
+    y, Aj, f, F, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors, centres = ws[:23]
+    lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest = ws[23:]
+    _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, sn, A21, A22)
+    count = 2 * n
+    if track and info[0] == 1 and info[1] < ANCHOR_EVERY - 1:
+        _shifts(lam_state, lam_older, lam_oldest, info, sigma)
+        if _hill_tracked(A21, A22, n, H, omega, lam_state, vec_state, sigma, lam_new, vec_new, centre, u, x, Gr, ur, wr,
+                         br, invr, piv, G, w, b, inv):
+            unstable = _multipliers(lam_new, period, mu_re, mu_im)
+            if unstable == info[2]:
+                lam_oldest[:] = lam_older
+                lam_older[:] = lam_state
+                lam_state[:] = lam_new
+                vec_state[:, :] = vec_new
+                info[1] += 1
+                info[4] = info[3]
+                info[3] = 1
+                return True, True
+    ok, runner = _hill_full(A21, A22, n, H, omega, lam_new, vec_new, centre, big, re, im, vectors, centres, Gr, ur, piv,
+                            G, x)
+    unstable = _multipliers(lam_new, period, mu_re, mu_im)
+    clear = ok and runner >= RUNNER_CENTRE
+    for q in range(count):
+        clear = clear and abs(centre[q]) <= 0.5 + COPY_SPREAD / 2
+    lam_oldest[:] = lam_older
+    lam_older[:] = lam_state
+    # the previous exponents are worth extrapolating from if they were a followed set, and so the ones before
+    info[4] = info[3] if info[0] == 1 else 0
+    info[3] = 1 if info[0] == 1 else 0
+    lam_state[:] = lam_new
+    vec_state[:, :] = vec_new
+    info[0] = 1 if clear else 0
+    info[1] = 0
+    info[2] = unstable
+    return ok, False
+
+
+@numba.njit(cache=False)
+def hill_branch(jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, lams, Zs, mu_re, mu_im, hill_ok,
+                track, tracked):
+    """Hill's multipliers of the points of a branch in order (:func:`hill_step`): ``tracked[i]`` whether
+    point ``i``'s were followed from point ``i - 1``'s (else the full method, ``hill_ok[i]`` False where it
+    failed)."""
+    n, H = ints[0], ints[1]
+    size = n * (2 * H + 1)
+    p = np.empty(base.shape[0])
+    A0 = np.empty((2 * n, 2 * n))
+    L = np.empty((size, size))
+    ws = hill_workspace(n, H)
+    for pt in range(lams.shape[0]):
+        omega = speed_frame(lams[pt], jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+        hill_ok[pt], tracked[pt] = hill_step(Zs[pt], omega, p, A0, jac, ints, E, ED, mu_re[pt], mu_im[pt], track, ws)
