@@ -15,7 +15,9 @@ Sections (each prints what it measured in this run, and the load average):
             speeds, each from rest to a settled orbit (``SETTLE_PERIODS``
             periods, the way a sweep finds them), which times ``--runs``
             speeds and scales to the branch's point count. The ratio is the
-            issue's target (a), >= 50. The branch runs on the compiled path
+            issue's target (a), >= 50; it also prints the ratio of the same
+            branch without stability (``stability="none"``), which gives
+            what the time integration gives (orbits), and error estimates. The branch runs on the compiled path
             (rotorkit/periodic/fastpath.py); the bench prints how its time
             per point splits (the continuation kernel, the per-point error
             estimate and Hill kernel, the rest in Python) and the first
@@ -169,6 +171,14 @@ def section_a(repeat, runs, steps=(BRANCH_STEPS["step"], BRANCH_STEPS["max_step"
           f"{1e3 * data / n:.3f} ms (the error estimate alone {1e3 * alone / n:.3f} ms), the rest (start solution, "
           f"amplitude scale, fold location) {1e3 * (hb - loop - data) / n:.3f} ms; first call of the process (kernels "
           f"loaded or compiled) {warm:.1f} s")
+    bare = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        periodic_response(system, speeds=SPEEDS, harmonics=3, step=steps[0], max_step=steps[1], stability="none")
+        bare.append(time.perf_counter() - t0)
+    bare = statistics.median(bare)
+    print(f"    without stability (stability=\"none\": the orbits and error estimates, what the time integration gives): "
+          f"{bare:.3f} s, ratio {n * per_run / bare:.2g}x")
     os.environ["ROTORKIT_PERIODIC_COMPILED"] = "0"
     try:
         t0 = time.perf_counter()

@@ -88,8 +88,23 @@ def _range(system, name, values, what):
     current = system.parameters.get(name)
     for v in (start, stop):
         if v != current:  # the element checks its value (sign, range); the current one it has checked
-            system.model.with_values(**{name: v})
+            _check_value(system.model, name, v)
     return start, stop
+
+
+_CHECKED = {}
+
+
+def _check_value(model, name, value):
+    """``model.with_values(name=value)``'s checks (the element's and the model's), once per model and value: a
+    model is immutable, so a value it accepted stays accepted (a few recent ones kept)."""
+    key = (id(model), name, value)
+    if _CHECKED.get(key) is model:
+        return
+    model.with_values(**{name: value})
+    if len(_CHECKED) >= 64:
+        _CHECKED.pop(next(iter(_CHECKED)))
+    _CHECKED[key] = model
 
 
 def _count(value, name, low):

@@ -24,6 +24,7 @@ force (N) per coordinate and harmonic.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 
@@ -44,8 +45,11 @@ def default_samples(harmonics, contact):
     return 1 << math.ceil(math.log2((8 if contact else 4) * (harmonics + 1)))
 
 
+@functools.lru_cache(maxsize=32)
 def fourier_basis(harmonics, samples):
-    """``(E, P, D)``: synthesis (N, 2H+1), analysis (2H+1, N) and d/dtau (2H+1, 2H+1) of the real coefficients."""
+    """``(E, P, D)``: synthesis (N, 2H+1), analysis (2H+1, N) and d/dtau (2H+1, 2H+1) of the real coefficients.
+
+    Made once per ``(H, N)`` and shared by every caller: read them, do not change them in place."""
     H, N = harmonics, samples
     tau = 2.0 * np.pi * np.arange(N) / N
     E = np.ones((N, 2 * H + 1))
