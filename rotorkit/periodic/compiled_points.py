@@ -3,7 +3,8 @@
 It repeats what the Python reference does (the truncation-error estimate of
 :mod:`rotorkit.analysis.periodic` and
 :func:`~rotorkit.periodic.stability.hill_multipliers`), with the frame at each
-point's speed rebuilt by :func:`rotorkit.periodic.compiled_aft.speed_frame` (once
+point's speed rebuilt (prepared parameters and Jacobian at rest, as
+:func:`rotorkit.periodic.compiled_aft.speed_frame` without the linear operator; once
 per point: the error estimate, the force scale and Hill's matrix share it); the
 settings ``ints``/``fl`` are those of :mod:`rotorkit.periodic.compiled`
 (``ints[10]``: whether Hill's multipliers are computed). Hill's multipliers
@@ -18,10 +19,21 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .compiled_aft import scale_at_rest, speed_frame
+from .compiled_aft import prepared_parameters, scale_at_rest
 from .compiled_hill import ANCHOR_EVERY, hill_branch, hill_step, hill_workspace
 
 __all__ = ["point_data_kernel", "hill_branch", "ANCHOR_EVERY"]
+
+
+@numba.njit(cache=False)
+def _frame(lam, jac, ints, fl, base, varying, coef, window, p, A0, rest):
+    """The part of :func:`~rotorkit.periodic.compiled_aft.speed_frame` the per-point data uses (not the linear
+    operator): the prepared parameters ``p`` and the Jacobian at rest ``A0`` at speed ``lam`` (``rest``: the zero
+    state, 2n); returns the base frequency."""
+    prepared_parameters(lam, fl, base, varying, coef, window, p)
+    A0[:, :] = 0.0
+    jac(0.0, rest, p, A0)
+    return lam / ints[3]
 
 
 @numba.njit(cache=False)
@@ -31,11 +43,9 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
     and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed)."""
     n = ints[0]
     H2 = E.shape[1]
-    size = n * H2
     G = EG.shape[0]
     p = np.empty(base.shape[0])
     A0 = np.empty((2 * n, 2 * n))
-    L = np.empty((size, size))
     y = np.empty(2 * n)
     a = np.empty(2 * n)
     acc = np.empty(n)
@@ -48,7 +58,7 @@ def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef
     for pt in range(lams.shape[0]):
         lam = lams[pt]
         z = Zs[pt]
-        omega = speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
+        omega = _frame(lam, jac, ints, fl, base, varying, coef, window, p, A0, rest)
         scale = scale_at_rest(rhs, p, 2.0 * np.pi / omega, n, ints[2], M, P, rest, a, rest_f)  # this frame's
         for i in range(n):
             rq, rv, ra = Yq[i], Yv[i], Ya[i]
