@@ -39,7 +39,7 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import force_scale_into, residual, switches_of, workspace
+from .compiled_aft import force_scale_into, residual, residual_same_states, switches_of, workspace
 from .compiled_folds import grazing_value
 from .compiled_functions import core_function, jac_function
 from .compiled_newton import bordered, buffers, newton, solve_fixed, vector_norm
@@ -124,7 +124,7 @@ def _full_jacobian(u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, wind
     return True
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, inline="always")  # inlined: a call passing the work arrays costs ~0.2 us
 def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF):
     """The corrector of :func:`~rotorkit.periodic.continuation.continue_branch`: ``(converged, iterations,
     norm, factored)``, the solution in ``u`` and Newton's matrix in ``JF`` (the last evaluated: Newton's
@@ -141,8 +141,8 @@ def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, co
     scale = force_scale_into(lp, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
     if not residual(zp, lp, True, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, Rz, Jz):
         return False, 0, np.inf, False
-    if not residual(zp, lp + fl[5], False, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, plus,
-                     Jz):
+    if not residual_same_states(zp, lp + fl[5], rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws,
+                                plus):  # the same zp: its sampled states reused
         return False, 0, np.inf, False
     for i in range(size):
         column[i] = (plus[i] - Rz[i]) / fl[5]

@@ -19,7 +19,8 @@ import numba
 import numpy as np
 
 __all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "local_jacobian",
-           "aft_states", "workspace", "aft_tables", "projection_terms", "frame_into", "residual", "jacobian_at_states",
+           "aft_states", "workspace", "aft_tables", "projection_terms", "frame_into", "residual", "residual_same_states",
+           "jacobian_at_states",
            "scale_at_rest", "switches_of", "force_scale_into"]
 
 
@@ -131,15 +132,15 @@ def aft_states(z, j, omega, E, ED, n, y):
 @numba.njit(cache=False)
 def workspace(ints, base, trig, terms, weights):
     """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
-    ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights)``; ``info`` holds the speed
+    ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights, V)``; ``info`` holds the speed
     of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
     ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G``, ``S`` the
-    Jacobian's sums."""
+    Jacobian's sums, ``V`` (N, n) the last residual's velocities per unit base frequency."""
     n, N = ints[0], ints[2]
     H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
             np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
-            np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights)
+            np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights, np.empty((N, n)))
 
 
 @functools.lru_cache(maxsize=16)
@@ -225,7 +226,23 @@ def frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws):
 @numba.njit(cache=False)
 def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R, J):
     """``R`` (and ``J`` if ``want``: :func:`jacobian_at_states`) of the harmonic balance at ``(z, lam)``; False
-    if ``R`` is not finite. The states at the AFT samples stay in the workspace (``ws[6]``)."""
+    if ``R`` is not finite. The states at the AFT samples stay in the workspace (``ws[6]``; their velocities per
+    unit base frequency in ``ws[16]``)."""
+    return _residual(z, lam, want, False, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R, J)
+
+
+@numba.njit(cache=False)
+def residual_same_states(z, lam, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R):
+    """:func:`residual` (no Jacobian) at the ``z`` of the last :func:`residual` call on this workspace and a new
+    ``lam``: the sampled displacements and the velocities per unit base frequency are those the last call left
+    (the same sums of the same numbers: equal to the bit), only the velocities' frequency factor is new."""
+    return _residual(z, lam, False, True, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R,
+                     ws[10])
+
+
+@numba.njit(cache=False, inline="always")
+def _residual(z, lam, want, same, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, R, J):
+    """:func:`residual`; with ``same`` the sampled states of the last call at ``z`` reused (velocities rescaled)."""
     n, H, N = ints[0], ints[1], ints[2]
     H2 = E.shape[1]
     frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
@@ -254,15 +271,22 @@ def residual(z, lam, want, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef,
             for l in range(n):
                 s += (K[i, l] - kw * kw * M[i, l]) * z[rb + l]
             R[rb + i] = s
-    for j in range(N):  # the states at all instants first (aft_states, inline: no call per instant)
-        for i in range(n):
-            q = 0.0
-            v = 0.0
-            for h in range(H2):
-                q += E[j, h] * z[h * n + i]
-                v += ED[j, h] * z[h * n + i]
-            Y[j, i] = q
-            Y[j, n + i] = omega * v
+    V = ws[16]
+    if same:
+        for j in range(N):
+            for i in range(n):
+                Y[j, n + i] = omega * V[j, i]
+    else:
+        for j in range(N):  # the states at all instants first (aft_states, inline: no call per instant)
+            for i in range(n):
+                q = 0.0
+                v = 0.0
+                for h in range(H2):
+                    q += E[j, h] * z[h * n + i]
+                    v += ED[j, h] * z[h * n + i]
+                Y[j, i] = q
+                V[j, i] = v
+                Y[j, n + i] = omega * v
     for j in range(N):
         t = period * j / N
         y = Y[j]
@@ -388,21 +412,20 @@ def scale_at_rest(rhs, p, period, n, N, M, P, y, a, f):
             for k in range(n):
                 s += M[i, k] * a[n + k]
             f[j, i] = s
-    F = np.empty((H2, n))
-    for h in range(H2):
-        for i in range(n):
-            s = 0.0
-            for j in range(N):
-                s += P[h, j] * f[j, i]
-            F[h, i] = s
     biggest = 0.0
-    for h in range(1, (H2 - 1) // 2 + 1):
+    for h in range(1, (H2 - 1) // 2 + 1):  # the cosine and sine rows of harmonic h (no array: no allocation)
         for i in range(n):
-            biggest = max(biggest, math.hypot(F[2 * h - 1, i], F[2 * h, i]))
+            a_h = 0.0
+            for j in range(N):
+                a_h += P[2 * h - 1, j] * f[j, i]
+            b_h = 0.0
+            for j in range(N):
+                b_h += P[2 * h, j] * f[j, i]
+            biggest = max(biggest, math.hypot(a_h, b_h))
     return biggest
 
 
-@numba.njit(cache=False)
+@numba.njit(cache=False, inline="always")  # inlined: a call passing the work arrays costs ~0.2 us
 def force_scale_into(lam, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws):
     """:func:`scale_at_rest` at ``lam`` with the frame of the workspace."""
     frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
