@@ -29,9 +29,9 @@ When it is used (automatically; all must hold)
 
 Otherwise, or if the kernel cannot start (a singular start tangent), the
 Python path runs. The kernels are compiled once (numba's disk cache in
-rotorkit's cache folder, :func:`rotorkit.codegen.cache.jit_shared`): 1.5 min
-cold at low load on this project's 2-core machine, a fraction of a second to
-load afterwards.
+rotorkit's cache folder, :func:`rotorkit.codegen.cache.jit_shared`): about
+two minutes cold on this project's 2-core machine (longer under load), about a
+second to load afterwards.
 """
 
 from __future__ import annotations
