@@ -39,7 +39,7 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import force_scale_into, residual, residual_same_states, switches_of, workspace
+from .compiled_aft import force_scale_into, residual, residual_same_states, same_state, switches_of, workspace
 from .compiled_folds import grazing_value
 from .compiled_functions import core_function, jac_function
 from .compiled_newton import bordered, buffers, newton, solve_fixed, vector_norm
@@ -186,14 +186,6 @@ def _distance(a, b, h, c):
 
 
 @numba.njit(cache=False)
-def _same(a, b):
-    for i in range(a.shape[0]):
-        if a[i] != b[i]:
-            return False
-    return True
-
-
-@numba.njit(cache=False)
 def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F,
             JF):
     """:func:`rotorkit.periodic.continuation._corner`: ``(accepted, iterations, norm)``."""
@@ -208,7 +200,7 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
                       coef, window)
     gp = switches_of(u_pred[:size] * z_scale, u_pred[size] * l_scale, sp, rhs, jac, sw, ints, fl, E, ED, M, base,
                       varying, coef, window)
-    if _same(s0, sp):
+    if same_state(s0, sp):
         return False, 0, 0.0
     A = np.empty((size, m))
     t1 = np.empty(m)
@@ -233,7 +225,7 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
     s1 = np.zeros(ns, dtype=np.bool_)
     switches_of(u1[:size] * z_scale, u1[size] * l_scale, s1, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef,
                  window)
-    if _same(s1, s0):
+    if same_state(s1, s0):
         return False, 0, 0.0
     if not _corrected_tangent(factored, JF, t_new, nb):
         return False, 0, 0.0

@@ -18,10 +18,9 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "local_jacobian",
-           "aft_states", "workspace", "aft_tables", "projection_terms", "frame_into", "residual", "residual_same_states",
-           "jacobian_at_states",
-           "scale_at_rest", "switches_of", "force_scale_into"]
+__all__ = ["prepared_parameters", "linear_entry", "linear_blocks", "speed_frame", "frame_at", "aft_states", "workspace",
+           "aft_tables", "projection_terms", "frame_into", "residual", "residual_same_states", "jacobian_at_states",
+           "scale_at_rest", "switches_of", "same_state", "force_scale_into"]
 
 
 @numba.njit(cache=False)
@@ -96,24 +95,6 @@ def frame_at(lam, jac, ints, fl, base, varying, coef, window, M, size):
     L = np.empty((size, size))
     omega = speed_frame(lam, jac, ints, fl, base, varying, coef, window, M, p, A0, L)
     return p, A0, L, omega, 2.0 * np.pi / omega
-
-
-@numba.njit(cache=False)
-def local_jacobian(M, Aj, A0, n, Fq, Fv):
-    """``Fq``, ``Fv`` (n, n): ``M`` times the local forces' part of the acceleration Jacobian ``Aj`` (``Aj - A0``
-    in its displacement and velocity columns); False where both are zero (no contact at this instant)."""
-    nonzero = False
-    for i in range(n):
-        for l in range(n):
-            sq = 0.0
-            sv = 0.0
-            for k in range(n):
-                sq += M[i, k] * (Aj[n + k, l] - A0[n + k, l])
-                sv += M[i, k] * (Aj[n + k, n + l] - A0[n + k, n + l])
-            Fq[i, l] = sq
-            Fv[i, l] = sv
-            nonzero = nonzero or sq != 0.0 or sv != 0.0  # no temporary arrays (np.any of a comparison makes two)
-    return nonzero
 
 
 @numba.njit(cache=False)
@@ -329,7 +310,7 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
     p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
     Y, Aj, G, S = ws[6], ws[10], ws[11], ws[12]
     trig, terms, weights = ws[13], ws[14], ws[15]
-    nn = n * n  # G is (Fq, Fv) of one instant (local_jacobian), flat
+    nn = n * n  # G is (Fq, Fv) of one instant, flat
     omega, period = info[1], info[2]
     for r in range(size):
         for c in range(size):
@@ -344,7 +325,7 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
             for c in range(2 * n):
                 Aj[r, c] = 0.0
         jac(period * j / N, Y[j], p, Aj)
-        nonzero = False  # local_jacobian into G, inline (no call per instant)
+        nonzero = False  # M times the local forces' part of the Jacobian (Aj - A0) into G
         for i in range(n):
             for l in range(n):
                 sq = 0.0
@@ -395,6 +376,15 @@ def switches_of(z, lam, state, rhs, jac, sw, ints, fl, E, ED, M, base, varying, 
                 state[k] = True
             biggest = max(biggest, out[k])
     return biggest if ns else 0.0
+
+
+@numba.njit(cache=False)
+def same_state(a, b):
+    """Whether two contact states (per switch, :func:`switches_of`) are equal."""
+    for i in range(a.shape[0]):
+        if a[i] != b[i]:
+            return False
+    return True
 
 
 @numba.njit(cache=False)

@@ -16,7 +16,7 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import switches_of
+from .compiled_aft import same_state, switches_of
 from .compiled_newton import solve_fixed
 
 __all__ = ["grazing_value"]
@@ -58,14 +58,6 @@ def _interpolate(pg, pl, pz, start, stop, g, want, z):
 
 
 @numba.njit(cache=False)
-def _same(a, b):
-    for i in range(a.shape[0]):
-        if a[i] != b[i]:
-            return False
-    return True
-
-
-@numba.njit(cache=False)
 def _step_on_piece(pg, pl, pz, count, aim, state, size, tries, found_z, rhs, jac, sw, ints, fl, E, P, ED, M, base,
                    varying, coef, window, ws):
     """The reference's ``_step_on_piece``: ``(found, gap, parameter)``, the coefficients into ``found_z``."""
@@ -79,7 +71,7 @@ def _step_on_piece(pg, pl, pz, count, aim, state, size, tries, found_z, rhs, jac
         ok = solve_fixed(found_z, l_c, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws)[0]
         if ok:
             g_c = switches_of(found_z, l_c, st, rhs, jac, sw, ints, fl, E, ED, M, base, varying, coef, window)
-            if g_c != pg[count - 2] and g_c != pg[count - 1] and (abs(g_c) <= 1e-6 * size or _same(st, state)):
+            if g_c != pg[count - 2] and g_c != pg[count - 1] and (abs(g_c) <= 1e-6 * size or same_state(st, state)):
                 return True, g_c, l_c
         aim = 0.5 * (aim + g_b)
     return False, 0.0, 0.0
@@ -163,7 +155,7 @@ def grazing_value(points, valid, steps, tries, rhs, jac, sw, ints, fl, E, P, ED,
         if valid[far]:
             g_far = switches_of(points[far, :size], points[far, size], st, rhs, jac, sw, ints, fl, E, ED, M, base,
                                 varying, coef, window)
-            if _same(st, state) and g_far != g_mid and g_far != g_near:
+            if same_state(st, state) and g_far != g_mid and g_far != g_near:
                 pg[0], pl[0] = g_far, points[far, size]
                 pz[0] = points[far, :size]
                 n_points = 1
