@@ -97,15 +97,23 @@ def frame_at(lam, jac, ints, fl, base, varying, coef, window, M, size):
     return p, A0, L, omega, 2.0 * np.pi / omega
 
 
+@numba.njit(cache=False, inline="always")  # inlined: called per instant and coordinate in the hot loops
+def _sample_sums(z, j, E, ED, n, i):
+    """Coordinate ``i`` and its velocity per unit base frequency at AFT instant ``j``: ``(E z)[j, i]``,
+    ``(ED z)[j, i]``."""
+    q = 0.0
+    v = 0.0
+    for h in range(E.shape[1]):
+        q += E[j, h] * z[h * n + i]
+        v += ED[j, h] * z[h * n + i]
+    return q, v
+
+
 @numba.njit(cache=False)
 def aft_states(z, j, omega, E, ED, n, y):
-    H2 = E.shape[1]
+    """The state ``y`` (2n) at AFT instant ``j`` from the coefficients ``z``."""
     for i in range(n):
-        q = 0.0
-        v = 0.0
-        for h in range(H2):
-            q += E[j, h] * z[h * n + i]
-            v += ED[j, h] * z[h * n + i]
+        q, v = _sample_sums(z, j, E, ED, n, i)
         y[i] = q
         y[n + i] = omega * v
 
@@ -258,13 +266,9 @@ def _residual(z, lam, want, same, rhs, jac, ints, fl, E, P, ED, M, base, varying
             for i in range(n):
                 Y[j, n + i] = omega * V[j, i]
     else:
-        for j in range(N):  # the states at all instants first (aft_states, inline: no call per instant)
+        for j in range(N):  # the states at all instants first
             for i in range(n):
-                q = 0.0
-                v = 0.0
-                for h in range(H2):
-                    q += E[j, h] * z[h * n + i]
-                    v += ED[j, h] * z[h * n + i]
+                q, v = _sample_sums(z, j, E, ED, n, i)
                 Y[j, i] = q
                 V[j, i] = v
                 Y[j, n + i] = omega * v
