@@ -250,7 +250,28 @@ CONDENSE_FROM = 12
 
 
 def _harmonic_balance(system, condense, **options):
-    """The plain or the condensed harmonic balance of ``system`` (see ``condense`` in :func:`continuation`)."""
+    """The plain or the condensed harmonic balance of ``system`` (see ``condense`` in :func:`continuation`),
+    kept for the next call with the same system and settings (a few kept): it depends on nothing else, and a
+    system never changes (its ``parameters`` are a copy)."""
+    try:
+        key = (id(system), tuple(condense) if isinstance(condense, list) else condense, tuple(sorted(options.items())))
+        found = _KEPT.get(key)
+    except TypeError:  # an unhashable setting: checked (and named) when the harmonic balance is made
+        key, found = None, None
+    if found is not None and found[0] is system:
+        return found[1]
+    hb = _new_harmonic_balance(system, condense, **options)
+    if key is not None:
+        if len(_KEPT) >= 8:
+            _KEPT.pop(next(iter(_KEPT)))
+        _KEPT[key] = (system, hb)
+    return hb
+
+
+_KEPT = {}
+
+
+def _new_harmonic_balance(system, condense, **options):
     from ..periodic.condensed import CondensedHarmonicBalance, nonlinear_coordinates
     from ..periodic.hb import HarmonicBalance
 

@@ -124,6 +124,9 @@ def _new_setup(problem):
         return None
     if type(hb) is not HarmonicBalance or problem.parameter != hb.speed_parameter:
         return None
+    kept = getattr(hb, "_compiled_setup", None)  # made for an earlier problem on this harmonic balance
+    if kept is not None:
+        return kept
     if hb.n > MAX_COORDINATES or hb.size > MAX_UNKNOWNS:
         return None
     evaluator = hb.evaluator
@@ -155,7 +158,8 @@ def _new_setup(problem):
     addresses = _function_addresses(functions)
     if addresses is None:
         return None
-    return CompiledSetup(hb, functions, fit, evaluator._window, mass, addresses)
+    hb._compiled_setup = setup = CompiledSetup(hb, functions, fit, evaluator._window, mass, addresses)
+    return setup
 
 
 def _function_addresses(functions):
