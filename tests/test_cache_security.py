@@ -17,7 +17,7 @@ import pytest
 
 import rotorkit as rk
 from rotorkit import system as system_module
-from rotorkit.codegen import cache
+from rotorkit.codegen import cache, cache_folders
 from rotorkit.symbolic import lagrange
 
 pytest.importorskip("numba")
@@ -27,7 +27,7 @@ POSIX = pytest.mark.skipif(not hasattr(os, "getuid"), reason="POSIX permissions"
 @pytest.fixture
 def fresh_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path / "cache"))
-    monkeypatch.setattr(cache.tempfile, "tempdir", str(tmp_path / "tmp"))  # fallback folders stay in tmp_path
+    monkeypatch.setattr(cache_folders.tempfile, "tempdir", str(tmp_path / "tmp"))  # fallback folders stay in tmp_path
     (tmp_path / "tmp").mkdir()
     forget(monkeypatch)
     return tmp_path / "cache"
@@ -38,7 +38,7 @@ def forget(monkeypatch):
     monkeypatch.setattr(system_module, "_MODULES", {})
     monkeypatch.setattr(system_module, "_JIT_CACHE", {})
     monkeypatch.setattr(lagrange, "_CACHE", {})
-    monkeypatch.setattr(cache, "_WARNED", set())
+    monkeypatch.setattr(cache_folders, "_WARNED", set())
 
 
 def jeffcott():

@@ -82,8 +82,9 @@ def test_a_run_into_an_output_folder_on_a_full_disk_names_it_and_keeps_the_signa
 def test_a_full_disk_under_the_model_cache_is_a_warning_naming_it_and_the_model_still_runs(full_disk, monkeypatch):
     cache = Path(os.environ["ROTORKIT_CACHE_DIR"])  # the temporary cache of the test session (conftest)
     from rotorkit.codegen import cache as model_cache
+    from rotorkit.codegen import cache_folders
 
-    monkeypatch.setattr(model_cache, "_WARNED", set())  # one warning per kind and process: this one is new here
+    monkeypatch.setattr(cache_folders, "_WARNED", set())  # one warning per kind and process: this one is new here
     full_disk(cache)
     with pytest.warns(model_cache.CacheWarning, match=rf"no space is left on the disk holding {cache}.*free of .*"
                                                       "set ROTORKIT_CACHE_DIR to a folder on a disk with space"):

@@ -11,7 +11,7 @@ import warnings
 
 import pytest
 
-from rotorkit.codegen import cache
+from rotorkit.codegen import cache, locks
 
 pytestmark = pytest.mark.skipif(not hasattr(signal, "SIGSTOP") or not sys.platform.startswith("linux"),
                                 reason="POSIX job control and /proc")
@@ -29,7 +29,7 @@ HOLDER = textwrap.dedent("""
 def test_a_stopped_lock_holder_is_named_and_the_wait_is_bounded(tmp_path, capfd, monkeypatch):
     folder = tmp_path / "entry"
     folder.mkdir(mode=0o700)
-    monkeypatch.setattr(cache, "STOPPED_LOCK_WAIT", 1.0)
+    monkeypatch.setattr(locks, "STOPPED_LOCK_WAIT", 1.0)
     env = dict(os.environ, PYTHONPATH=os.getcwd())
     holder = subprocess.Popen([sys.executable, "-c", HOLDER, str(folder)], stdout=subprocess.PIPE, text=True, env=env)
     try:

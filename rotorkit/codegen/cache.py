@@ -35,23 +35,24 @@ stale format, another user's or machine's key) is rebuilt silently; a folder
 that cannot be used (unreadable, replaced by a file, a key file replaced by
 a folder, disk full) gives one warning and the model is built in memory.
 
-The cache folder is ``$ROTORKIT_CACHE_DIR`` or ``~/.cache/rotorkit``.
+The cache folder is ``$ROTORKIT_CACHE_DIR`` or ``~/.cache/rotorkit``
+(:mod:`rotorkit.codegen.cache_folders`: where, kept private, repaired, its
+warnings); the locks are :mod:`rotorkit.codegen.locks`'.
 """
 
-import contextlib
 import hashlib
 import hmac
 import json
 import os
 import shutil
-import stat
 import sys
-import tempfile
 import types
-import warnings
 from pathlib import Path
 
 from ..files import atomic_write_bytes, atomic_write_text, read_data
+from .cache_folders import (CacheWarning, cache_dir, is_private, private_dir, rebuilt_dir, remove_path,  # noqa: F401
+                            warn_once)
+from .locks import shared_lock
 
 __all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "shared_lock", "shared_is_current",
            "compile_verified"]
@@ -61,89 +62,6 @@ SIGNATURES = "numba.sig.json"
 #: the lock (``<entry>/<NUMBA_LOCK>.lock``) a process holds while it verifies and reads, or writes and signs,
 #: numba's cache files of an entry
 NUMBA_LOCK = "numba_cache"
-_WARNED = set()
-
-
-class CacheWarning(UserWarning):
-    """The model cache could not be used as is (it is rebuilt or bypassed)."""
-
-
-def warn_once(message, topic=None):
-    """One warning per topic and process: a damaged cache must not flood a sweep's log."""
-    topic = topic or message
-    if topic not in _WARNED:
-        _WARNED.add(topic)
-        warnings.warn(message, CacheWarning, stacklevel=3)
-
-
-class _NotPrivate(OSError):
-    """A folder or file another user can write (or that is not ours)."""
-
-
-def _private(path):
-    """True if ``path`` belongs to this user and only this user can write it."""
-    if not hasattr(os, "getuid"):
-        return True
-    st = path.stat()
-    return st.st_uid == os.getuid() and not st.st_mode & (stat.S_IWGRP | stat.S_IWOTH)
-
-
-def _private_dir(path):
-    """Create ``path`` (and missing parents) ``0o700`` whatever the umask, or check it; OSError if unusable."""
-    path = Path(path)
-    missing = []
-    probe = path
-    while not os.path.lexists(probe) and probe != probe.parent:
-        missing.append(probe)
-        probe = probe.parent
-    for folder in reversed(missing):
-        try:
-            folder.mkdir(mode=0o700)
-            os.chmod(folder, 0o700)  # mkdir's mode is masked by the umask; 0o700 is what we want
-        except FileExistsError:
-            pass
-    if not path.is_dir():
-        raise NotADirectoryError(f"{path} is not a folder")
-    if not _private(path):
-        raise _NotPrivate(f"{path} is writable by others or not yours")
-    if not os.access(path, os.R_OK | os.W_OK | os.X_OK):
-        raise PermissionError(f"{path} is not readable and writable by you")
-    return path
-
-
-def remove_path(path):
-    """Remove a file, link or folder tree (making our own unreadable folders readable); OSError if it cannot."""
-    if os.path.islink(path) or not os.path.isdir(path):
-        os.unlink(path)
-        return
-
-    def make_writable_and_retry(function, failed, _exc_info):
-        for folder in {os.path.dirname(failed), failed}:
-            if os.path.isdir(folder) and not os.path.islink(folder):
-                os.chmod(folder, 0o700)
-        function(failed)
-
-    os.chmod(path, 0o700)
-    shutil.rmtree(path, onerror=make_writable_and_retry)
-
-
-def cache_dir():
-    """The cache folder (created private if missing; a private temporary folder if it cannot be used)."""
-    env = os.environ.get("ROTORKIT_CACHE_DIR")
-    base = Path(env) if env else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "rotorkit"
-    try:
-        return _private_dir(base)
-    except _NotPrivate:
-        warn_once(f"rotorkit cache folder {base} is writable by others or not yours; "
-                  "using a private temporary folder instead", topic=("base", str(base)))
-    except OSError as exc:
-        warn_once(f"rotorkit cache folder {base} cannot be used ({exc}); "
-                  "using a private temporary folder instead", topic=("base", str(base)))
-    fallback = Path(tempfile.gettempdir()) / f"rotorkit-cache-{os.getuid() if hasattr(os, 'getuid') else 'user'}"
-    try:
-        return _private_dir(fallback)
-    except OSError:
-        return Path(tempfile.mkdtemp(prefix="rotorkit-cache-"))  # mkdtemp: 0o700, ours
 
 
 def secret_key():
@@ -151,7 +69,7 @@ def secret_key():
     path = cache_dir() / "secret.key"
     try:
         key = read_data(path, what="cache metadata", max_bytes=64)
-        if len(key) == 32 and _private(path) and not path.stat().st_mode & 0o077:
+        if len(key) == 32 and is_private(path) and not path.stat().st_mode & 0o077:
             return key
     except (OSError, ValueError):  # ValueError: not a regular file, or too long
         pass
@@ -221,7 +139,7 @@ def compile_verified(source, filename, entry=None, name="rhs"):
         pass
     code = compile(source, filename, "exec", dont_inherit=True)
     try:
-        if _private(Path(entry)):
+        if is_private(Path(entry)):
             data = marshal.dumps(code)
             atomic_write_bytes(path, _code_digest(secret, name, filename, source, data) + data, mode=0o600,
                                durable=False)
@@ -230,19 +148,8 @@ def compile_verified(source, filename, entry=None, name="rhs"):
     return code
 
 
-def _rebuilt_dir(folder):
-    """``folder`` as a private folder; replaced (with a warning) if it is not one (others can write it, a file)."""
-    try:
-        return _private_dir(folder)
-    except (NotADirectoryError, _NotPrivate, PermissionError) as exc:
-        warn_once(f"rotorkit cache folder {folder} cannot be trusted or used ({exc}); "
-                  "it is removed and rebuilt", topic=("folder", str(folder)))
-        remove_path(folder)
-        return _private_dir(folder)
-
-
 def _models():
-    return _rebuilt_dir(cache_dir() / "models")
+    return rebuilt_dir(cache_dir() / "models")
 
 
 def load(key):
@@ -253,7 +160,7 @@ def load(key):
             return None
         if entry.is_symlink() or not entry.is_dir():
             raise NotADirectoryError(f"{entry} is not a folder")
-        if not _private(entry):
+        if not is_private(entry):
             warn_once(f"rotorkit cache entry {entry} is writable by others or not yours; "
                       "it is removed and rebuilt", topic=("entry", str(entry)))
             remove_path(entry)
@@ -292,10 +199,10 @@ def store(key, source):
     """Write a generated module for ``key`` and run it (in memory, with one warning, if the cache cannot be written)."""
     try:
         entry = _models() / key
-        if os.path.lexists(entry) and (entry.is_symlink() or not entry.is_dir() or not _private(entry)):
+        if os.path.lexists(entry) and (entry.is_symlink() or not entry.is_dir() or not is_private(entry)):
             remove_path(entry)
-        _private_dir(entry)
-        _private_dir(entry / "__pycache__")  # before numba creates it with the umask
+        private_dir(entry)
+        private_dir(entry / "__pycache__")  # before numba creates it with the umask
         secret = secret_key()
         atomic_write_text(entry / "rhs.py", source, mode=0o600)
         meta = {"format": FORMAT, "key": key, "hmac": _digest(source, secret)}
@@ -320,7 +227,7 @@ def store(key, source):
 def _verify_numba_files(entry, folder=None):
     """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature."""
     folder = entry / "__pycache__" if folder is None else folder
-    _private_dir(folder)
+    private_dir(folder)
     secret = secret_key()
     try:
         signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
@@ -415,7 +322,7 @@ def jit(module, name, **options):
     entry = getattr(module, "__rotorkit_entry__", None)
     if entry is not None:
         try:
-            _rebuilt_dir(entry / "__pycache__")
+            rebuilt_dir(entry / "__pycache__")
             dispatcher = numba.njit(cache=True, **options)(function)
             if _guard(dispatcher, entry):
                 return dispatcher
@@ -427,7 +334,7 @@ def jit(module, name, **options):
 
 def shared_dir(name):
     """``<cache>/shared/<name>``, created private (rebuilt if it is not); OSError if it cannot be used."""
-    return _rebuilt_dir(_rebuilt_dir(cache_dir() / "shared") / name)
+    return rebuilt_dir(rebuilt_dir(cache_dir() / "shared") / name)
 
 
 def jit_shared(function, name, signature, **options):
@@ -460,157 +367,6 @@ def jit_shared(function, name, signature, **options):
     dispatcher.compile(signature.args)
     dispatcher.disable_compile()
     return dispatcher
-
-
-def _lock_file(name, folder=None):
-    """An open file ``<folder>/<name>.lock`` (default folder ``<cache>/shared``; mode 0o600) to ``flock``; None
-    where that is impossible."""
-    try:
-        import fcntl  # noqa: F401 - POSIX only
-    except ImportError:
-        return None
-    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
-    try:
-        path = Path(folder if folder is not None else _rebuilt_dir(cache_dir() / "shared")) / f"{name}.lock"
-    except OSError:
-        return None
-    for _attempt in range(2):
-        try:
-            fd = os.open(path, flags, 0o600)
-        except OSError:
-            fd = None
-        if fd is not None and stat.S_ISREG(os.fstat(fd).st_mode):
-            os.set_blocking(fd, True)
-            return os.fdopen(fd, "r+b")
-        if fd is not None:
-            os.close(fd)
-        # a FIFO, a folder, a link or a device in place of the lock file: a damaged cache, repaired once
-        if not os.path.lexists(path):
-            return None
-        warn_once(f"rotorkit cache: the lock file {path} was not a regular file; it is replaced",
-                  topic=("lock", str(path)))
-        try:
-            remove_path(path)
-        except OSError:
-            return None
-    return None
-
-
-#: seconds a process waits for another that holds a build lock, before it builds without it
-LOCK_WAIT = float(os.environ.get("ROTORKIT_LOCK_WAIT", "600") or 600)
-#: seconds it waits for a holder that is stopped (Ctrl-Z, SIGSTOP)
-STOPPED_LOCK_WAIT = 10.0
-
-
-def _process_state(pid):
-    """``"running"``, ``"stopped"`` (Ctrl-Z, a debugger) or ``"gone"`` for ``pid``; ``"unknown"`` without /proc."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return "gone"
-    except OSError:
-        pass
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as fh:
-            state = fh.read(4096).rsplit(b")", 1)[1].split()[0]
-    except (OSError, IndexError):
-        return "unknown"
-    return "stopped" if state in (b"T", b"t") else "running"
-
-
-def _holder(handle):
-    """The pid written in a lock file by its holder, or None."""
-    try:
-        handle.seek(0)
-        text = handle.read(32).decode("ascii", "replace").strip()
-        return int(text) if text.isdigit() else None
-    except (OSError, ValueError):
-        return None
-
-
-def _wait_for_lock(handle, name, path, wait=None):
-    """Take the lock of ``handle``, waiting for its holder with a message naming it; False past the bound.
-
-    The bound is :data:`LOCK_WAIT` seconds, or :data:`STOPPED_LOCK_WAIT` once
-    the holder is seen stopped (Ctrl-Z): then the caller builds without the lock
-    rather than hang.
-    """
-    import fcntl
-    import time
-
-    wait = LOCK_WAIT if wait is None else wait
-    start = time.monotonic()
-    told, stopped_since = None, None
-    while True:
-        try:
-            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            return True
-        except BlockingIOError:
-            pass
-        pid = _holder(handle)
-        state = _process_state(pid) if pid else "unknown"
-        now = time.monotonic()
-        if told != (pid, state) and (state == "stopped" or now - start > 2.0):  # a short wait goes unsaid
-            told = (pid, state)
-            who = f"process {pid}" if pid else "another process"
-            how = ("; it is stopped (Ctrl-Z or SIGSTOP: 'fg' or 'kill -CONT' resumes it)" if state == "stopped"
-                   else "")
-            sys.stderr.write(f"rotorkit: waiting for {who} to finish building {name} (it holds {path}){how}; "
-                             f"at most {STOPPED_LOCK_WAIT if state == 'stopped' else wait:g} s, then rotorkit "
-                             "builds without the lock\n")
-            sys.stderr.flush()
-        stopped_since = (stopped_since or now) if state == "stopped" else None
-        if now - start > wait or (stopped_since is not None and now - stopped_since > STOPPED_LOCK_WAIT):
-            warn_once(f"rotorkit: {('process ' + str(pid)) if pid else 'another process'} has held the lock "
-                      f"{path} too long ({'stopped' if state == 'stopped' else f'over {wait:g} s'}); "
-                      f"building {name} without it", topic=("lock-wait", str(path)))
-            return False
-        time.sleep(0.05)
-
-
-def _lock_path(name, folder):
-    return Path(folder if folder is not None else cache_dir() / "shared") / f"{name}.lock"
-
-
-@contextlib.contextmanager
-def shared_lock(name, *, blocking=True, folder=None):
-    """Hold the lock of ``<cache>/shared/<name>`` (an exclusive ``flock``) within the block.
-
-    ``folder``: a private folder to keep the lock file ``<name>.lock`` in
-    instead (a model's entry, for what is built into it).
-
-    Every process that loads or compiles rotorkit's shared code into the
-    cache takes it, so one process never reads (and, finding them unsigned,
-    removes) files another is still writing, and a process started while
-    another compiles waits for it and then loads its result. Yields the open
-    lock file, or None where locking is not available (no ``fcntl``, cache
-    folder unusable: then nothing is serialised, as before) or, with
-    ``blocking=False``, when another process holds the lock.
-    """
-    handle = _lock_file(name, folder)
-    if handle is None:
-        yield None
-        return
-    import fcntl
-
-    with handle:  # the lock is released when the file is closed (at the latest when the process exits)
-        try:
-            if blocking:
-                locked = _wait_for_lock(handle, name, _lock_path(name, folder))
-            else:
-                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                locked = True
-        except OSError:  # held elsewhere (non-blocking), or flock not supported by the file system
-            locked = False
-        if locked:
-            try:  # the holder's pid, for the message of a process that waits
-                handle.seek(0)
-                handle.truncate()
-                handle.write(str(os.getpid()).encode())
-                handle.flush()
-            except OSError:
-                pass
-        yield handle if locked else None
 
 
 def shared_is_current(name, source):

@@ -20,6 +20,7 @@ import numba
 import numpy as np
 
 from .compiled_aft import prepared_parameters, scale_at_rest
+from .compiled_functions import core_function, jac_function
 from .compiled_hill import ANCHOR_EVERY, hill_branch, hill_step, hill_workspace
 
 __all__ = ["point_data_kernel", "hill_branch", "ANCHOR_EVERY"]
@@ -37,10 +38,14 @@ def _frame(lam, jac, ints, fl, base, varying, coef, window, p, A0, rest):
 
 
 @numba.njit(cache=False)
-def point_data_kernel(rhs, jac, ints, fl, E, P, ED, M, Minv, base, varying, coef, window, EG, EDG, EDDG, lams, Zs,
+def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, EG, EDG, EDDG, lams, Zs,
                       errors, mu_re, mu_im, hill_ok):
     """Per point: the truncation-error estimate (max |M (q'' - a)| on the grid of ``EG``'s rows over the scale)
-    and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed)."""
+    and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed).
+    ``functions``: the addresses of the model's ``rhs`` and ``jac`` (the first four of
+    :func:`~rotorkit.periodic.compiled_functions.function_addresses`), called as the continuation kernel calls them."""
+    rhs = core_function(functions[0], functions[1])
+    jac = jac_function(functions[2], functions[3])
     n = ints[0]
     H2 = E.shape[1]
     G = EG.shape[0]

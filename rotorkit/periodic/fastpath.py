@@ -67,8 +67,9 @@ class CompiledSetup:
 
     def __init__(self, hb, functions, fit, window, mass, addresses):
         self.hb = hb
+        #: the model's jitted functions (dispatchers), for harnesses that call the kernels' parts
         self.rhs, self.jac, self.switches = functions
-        #: the continuation kernel's model functions: their addresses (int64, 6), found once per model structure
+        #: the kernels' model functions: their addresses (int64, 6), found once per model structure
         self.addresses = addresses
         constant, varying, coefficients, s0 = fit
         self.base = np.ascontiguousarray(constant, dtype=float)
@@ -90,9 +91,6 @@ class CompiledSetup:
         self._switches_seen = {}  # (lambda, z bytes) -> (gap, state) of the last few points asked
         self._ints = np.zeros(11, dtype=np.int64)
         self._ints[:5] = hb.n, hb.harmonics, hb.samples, hb.subharmonic, self.n_switches
-        #: the model's functions as first-class arguments: True when they are the address-holding objects of
-        #: :func:`_addressed`, which the kernels' entry points take as they are (:func:`_entry`)
-        self.addressed = all(isinstance(getattr(f, "_address", None), int) for f in functions)
 
     def ints(self, **values):
         ints = self._ints.copy()
@@ -157,12 +155,12 @@ def _new_setup(problem):
     addresses = _function_addresses(functions)
     if addresses is None:
         return None
-    return CompiledSetup(hb, _addressed(functions), fit, evaluator._window, mass, addresses)
+    return CompiledSetup(hb, functions, fit, evaluator._window, mass, addresses)
 
 
 def _function_addresses(functions):
     """:func:`~rotorkit.periodic.compiled_functions.function_addresses` of the model's functions, found once per
-    set of functions (kept with them, as :func:`_addressed`)."""
+    set of functions (kept with them)."""
     key = ("addresses",) + tuple(id(f) for f in functions)
     found = _ADDRESSED.get(key)
     if found is None or any(a is not b for a, b in zip(found[0], functions)):
@@ -189,43 +187,6 @@ def _speed_fit(evaluator, module, p, slot):
 
 
 _ADDRESSED = {}
-
-
-def _addressed(functions):
-    """The model's jitted functions as objects holding their compiled address (numba's wrapper address
-    protocol): passing a dispatcher makes numba look the address up at every kernel call (about 0.1 ms each);
-    the dispatchers themselves where that fails. Made once per set of functions (one per model structure)."""
-    key = tuple(id(f) for f in functions)
-    found = _ADDRESSED.get(key)
-    if found is None or any(a is not b for a, b in zip(found[0], functions)):
-        found = _ADDRESSED[key] = (tuple(functions), _new_addressed(functions))
-    return found[1]
-
-
-def _new_addressed(functions):
-    try:
-        from numba import types
-        from numba.experimental.function_type import _get_wrapper_address
-
-        vec, mat = types.float64[::1], types.float64[:, ::1]
-        signatures = (types.void(types.float64, vec, vec, vec), types.void(types.float64, vec, vec, mat),
-                      types.void(types.float64, vec, vec, vec))
-
-        class Addressed(types.WrapperAddressProtocol):
-            def __init__(self, dispatcher, signature):
-                self.dispatcher = dispatcher  # keeps the compiled code alive
-                self._signature = signature
-                self._address = _get_wrapper_address(dispatcher, signature)
-
-            def __wrapper_address__(self):
-                return self._address
-
-            def signature(self):
-                return self._signature
-
-        return tuple(Addressed(f, s) for f, s in zip(functions, signatures))
-    except Exception:  # noqa: BLE001 - a numba without this protocol: the dispatchers work, a little slower
-        return functions
 
 
 @functools.lru_cache(maxsize=None)
@@ -260,15 +221,13 @@ def _signature(kind):
 
     vec, mat = types.float64[::1], types.float64[:, ::1]
     ivec = types.int64[::1]
-    core = types.FunctionType(types.void(types.float64, vec, vec, vec))
-    jac = types.FunctionType(types.void(types.float64, vec, vec, mat))
     common = (ivec, vec, mat, mat, mat, mat)  # ints, fl, E, P, ED, M
     fit = (vec, ivec, mat, vec)  # base, varying, coef, window
     if kind == "continue":
         tables = (mat, types.int64[:, :, ::1], types.float64[:, :, ::1])  # trig, terms, weights
         return types.Tuple((types.int64, types.int64))(ivec, *common, *fit, *tables, vec, vec, mat, mat, vec,
                                                        types.boolean[::1])
-    return types.void(core, jac, *common, mat, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
+    return types.void(ivec, *common, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
 
 
 KINDS = ("continue", "points")
@@ -316,19 +275,15 @@ def compile_kernels(verbose=True):
         print(f"rotorkit: harmonic-balance kernels ready in {time.perf_counter() - t0:.1f} s", flush=True)
 
 
-def _entry(kind, setup):
-    """The callable that runs kernel ``kind`` for ``setup``: the compiled overload's entry point, which takes
-    the arguments as they are, where the model's functions are address-holding objects (:func:`_addressed`);
-    else the dispatcher.
+def _entry(kind):
+    """The callable that runs kernel ``kind``: the compiled overload's entry point, which takes the arguments
+    as they are, else (another numba's internals) the dispatcher.
 
-    The dispatcher types every argument at each call to pick the overload, and a first-class function
-    argument costs it a new numba type per call (about 10 us each); the kernels have a single overload,
-    compiled for :func:`_signature`, so the choice is known. The entry point checks no argument type: every
-    array passed is built here with the signature's dtype and C order. The continuation kernel takes the
-    functions' addresses (:attr:`CompiledSetup.addresses`), arrays like the others: always its entry point."""
+    The dispatcher types every argument at each call to pick the overload; the kernels have a single
+    overload, compiled for :func:`_signature`, so the choice is known. The entry point checks no argument
+    type: every array passed is built here with the signature's dtype and C order. Both kernels take the
+    model's functions as their addresses (:attr:`CompiledSetup.addresses`), arrays like the others."""
     kernel = _kernel(kind)
-    if kind != "continue" and not setup.addressed:
-        return kernel
     found = _ENTRIES.get(kind)
     if found is None or found[0] is not kernel:
         try:
@@ -375,7 +330,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
                    direction, 0.0])
     u0 = np.append(np.asarray(z0, dtype=float) / z_scale, lam0 / l_scale)
     t0 = np.zeros(size + 1)
-    kernel = _entry("continue", setup)
+    kernel = _entry("continue")
     chunk = CHUNK if progress is not None else opts.max_points
     first = True
     while True:
@@ -441,10 +396,10 @@ def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1, out_u=Non
         out_u = np.zeros((1, size + 1))
     out_norm = np.zeros(1)
     out_corner = np.zeros(max(corner_size, 1), dtype=np.bool_)
-    result = _entry("continue", setup)(setup.addresses, setup.ints(max_iterations=max_iterations, start=mode, **ints), fl, setup.E,
-                                       setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
-                                       setup.window, setup.trig, setup.terms, setup.weights, u0, t0, out_u,
-                                       out_u, out_norm, out_corner)
+    result = _entry("continue")(setup.addresses, setup.ints(max_iterations=max_iterations, start=mode, **ints), fl,
+                                setup.E, setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
+                                setup.window, setup.trig, setup.terms, setup.weights, u0, t0, out_u, out_u, out_norm,
+                                out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -505,10 +460,10 @@ def grazing_compiled(problem, lam, Z, i, *, tol, max_iterations, steps, tries):
     fl = np.zeros(12)
     fl[0], fl[9] = setup.s0, tol
     out_norm = np.zeros(1)
-    _entry("continue", setup)(setup.addresses, setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries, start=5), fl,
-                              setup.E, setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
-                              setup.window, setup.trig, setup.terms, setup.weights, setup._zero, setup._zero, points,
-                              points, out_norm, valid)
+    _entry("continue")(setup.addresses, setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries,
+                                                   start=5), fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
+                       setup.varying, setup.coef, setup.window, setup.trig, setup.terms, setup.weights, setup._zero,
+                       setup._zero, points, points, out_norm, valid)
     return float(out_norm[0])
 
 
@@ -534,9 +489,8 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
     mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
     ok = np.ones(count, dtype=np.bool_)
     fl = np.array([setup.s0])
-    _entry("points", setup)(setup.rhs, setup.jac, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED,
-                            setup.mass, np.ascontiguousarray(np.linalg.inv(setup.mass)), setup.base, setup.varying,
-                            setup.coef, setup.window, EG, EDG, EDDG, lam, Z, errors, mu_re, mu_im, ok)
+    _entry("points")(setup.addresses, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
+                     setup.varying, setup.coef, setup.window, EG, EDG, EDDG, lam, Z, errors, mu_re, mu_im, ok)
     omega = lam / hb.subharmonic
     if not hill:
         return omega, errors, None
