@@ -366,8 +366,8 @@ def null_vector_into(G, piv, x):
 
 
 def _pack(like, re, im):
-    """``re + i im`` of the type of ``like`` (``re`` for a real ``like``): numba only (:func:`_pack_typed`)."""
-    raise NotImplementedError
+    """``re + i im`` if ``like`` is complex, else ``re`` (in the kernels by :func:`_pack_typed`, on the type)."""
+    return complex(re, im) if isinstance(like, complex) else re
 
 
 @overload(_pack)
