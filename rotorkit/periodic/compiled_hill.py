@@ -38,7 +38,8 @@ import math
 import numba
 import numpy as np
 
-from .compiled_aft import aft_states, speed_frame
+from .compiled_aft import speed_frame
+from .compiled_hill_matrix import block_table, hill_matrix
 from .eigen import complex_lu, eigenpair_near, eigenvalues, lu_solve, null_vector_into, row_norms
 from .stability import STABILITY_TOL
 
@@ -64,16 +65,18 @@ TRACK_OVERLAP = 0.9
 @numba.njit(cache=False)
 def hill_workspace(n, H):
     """The work arrays of Hill's multipliers along a branch (n coordinates, H harmonics), made once:
-    ``(y, Aj, f, F, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors,
-    centres, lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest)``;
+    ``(y, Aj, f, F, cs, used, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors,
+    centres, lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest, kk,
+    cc)`` (``kk``, ``cc``: :func:`~rotorkit.periodic.compiled_hill_matrix.block_table`);
     ``lam_state``, ``vec_state``, ``lam_older``, ``info``, ``lam_oldest``: the state carried from point to point
     (:func:`hill_step`), ``info`` zeroed (no previous point)."""
     H2 = 2 * H + 1
     size = n * H2
     nn = n * n
     c16 = np.complex128
+    kk, cc = block_table(H)
     return (np.empty(2 * n), np.empty((2 * n, 2 * n)),
-            np.empty(2 * nn), np.empty((2 * H2, 2 * nn)), np.empty(H2), np.empty(H2),
+            np.empty(2 * nn), np.empty((2 * nn, 2 * H2)), np.empty(2 * H2), np.empty(2 * nn, dtype=np.bool_),
             np.empty((size, size)), np.empty((size, size)),
             np.empty((size, size)), np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.int64),
             np.empty((size, size), dtype=c16), np.empty(size, dtype=c16), np.empty(size, dtype=c16),
@@ -82,111 +85,7 @@ def hill_workspace(n, H):
             np.empty(2 * size),
             np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n), np.empty(2 * n, dtype=c16),
             np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n, dtype=c16),
-            np.zeros(5, dtype=np.int64), np.empty(size), np.empty(size, dtype=c16), np.empty(2 * n, dtype=c16))
-
-
-@numba.njit(cache=False)
-def _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, sn, Q, V):
-    """The lower blocks ``A21``, ``A22`` of Hill's matrix ``[[0, I], [A21, A22]]`` of
-    :func:`rotorkit.periodic.stability.hill_exponents` into the workspace, on the frame ``p``, ``A0``,
-    ``omega``, ``period`` at the point's speed (work arrays of :func:`hill_workspace`).
-
-    The reference's ``A21 = -kron(I, M^-1) (Kt + Ct kron(wD, I) + kron(wD^2, M))`` and
-    ``A22 = -kron(I, M^-1) (2 kron(wD, M) + Ct)``, with ``Kt = K0 - proj(M Dq)``, ``Ct = C0 - proj(M Dv)``,
-    ``K0 = -M A_q``, ``C0 = -M A_v`` (``Dq``, ``Dv`` the acceleration Jacobian's change from rest at the AFT
-    samples), without the mass matrix, which cancels: ``A21 = Q + V kron(wD, I) - kron(wD^2, I)`` and
-    ``A22 = V - 2 kron(wD, I)``, ``Q = blockdiag(A_q) + proj(Dq)``, ``V = blockdiag(A_v) + proj(Dv)`` (equal to
-    rounding)."""
-    n, H, N = ints[0], ints[1], ints[2]
-    H2 = 2 * H + 1
-    nn = n * n
-    # proj(D) = P diag(D_j) E block by block: P[c, j] E[j, d] is a product of two of 1, cos a t, sin a t, a sum
-    # of cos m t and sin m t (m <= 2H): the sums F[2 m] = sum_j cos(m t_j) D_j, F[2 m + 1] = sum_j sin(m t_j) D_j
-    # give every block (the same sums as the products, fewer operations); D_j = (Dq, Dv) flat in f
-    F[:, :] = 0.0
-    for j in range(N):
-        aft_states(z, j, omega, E, ED, n, y)
-        Aj[:, :] = 0.0
-        jac(period * j / N, y, p, Aj)
-        contact = False
-        for i in range(n):
-            for l in range(n):
-                dq = Aj[n + i, l] - A0[n + i, l]
-                dv = Aj[n + i, n + l] - A0[n + i, n + l]
-                f[i * n + l] = dq
-                f[nn + i * n + l] = dv
-                contact = contact or dq != 0.0 or dv != 0.0
-        if not contact:  # the linear part alone at this instant: nothing to project
-            continue
-        cs[0], sn[0] = 1.0, 0.0
-        for m in range(1, H + 1):
-            cs[m], sn[m] = E[j, 2 * m - 1], E[j, 2 * m]
-        for m in range(H + 1, H2):  # cos/sin (H + k) t from the addition theorems
-            k = m - H
-            cs[m] = cs[H] * cs[k] - sn[H] * sn[k]
-            sn[m] = sn[H] * cs[k] + cs[H] * sn[k]
-        for m in range(H2):
-            cm, sm = cs[m], sn[m]
-            for r in range(2 * nn):
-                F[2 * m, r] += cm * f[r]
-                F[2 * m + 1, r] += sm * f[r]
-    Q[:, :] = 0.0
-    V[:, :] = 0.0
-    for h in range(H2):
-        for i in range(n):
-            for l in range(n):
-                Q[h * n + i, h * n + l] = A0[n + i, l]
-                V[h * n + i, h * n + l] = A0[n + i, n + l]
-    for c in range(H2):
-        a = (c + 1) // 2  # harmonic of row block c; kind: 0 constant, 1 cos, 2 sin
-        ka = 0 if c == 0 else 2 - c % 2
-        weight = (1.0 if c == 0 else 2.0) / N
-        for d in range(H2):
-            b = (d + 1) // 2
-            kb = 0 if d == 0 else 2 - d % 2
-            lo = abs(a - b)
-            sg = 1.0 if a >= b else -1.0
-            hi = a + b
-            # the block's sum c1 F[k1] + c2 F[k2] (rows 2 m: cosines, 2 m + 1: sines): a product of two basis
-            # functions is half a sum of two
-            k1, c1, k2, c2 = 0, 1.0, 0, 0.0
-            if ka == 0 and kb == 0:
-                pass
-            elif ka == 0:
-                k1 = 2 * b if kb == 1 else 2 * b + 1
-                k2 = k1
-            elif kb == 0:
-                k1 = 2 * a if ka == 1 else 2 * a + 1
-                k2 = k1
-            elif ka == 1 and kb == 1:  # cos a cos b
-                k1, c1, k2, c2 = 2 * lo, 0.5, 2 * hi, 0.5
-            elif ka == 2 and kb == 2:  # sin a sin b
-                k1, c1, k2, c2 = 2 * lo, 0.5, 2 * hi, -0.5
-            elif ka == 1:  # cos a sin b
-                k1, c1, k2, c2 = 2 * hi + 1, 0.5, 2 * lo + 1, -0.5 * sg
-            else:  # sin a cos b
-                k1, c1, k2, c2 = 2 * hi + 1, 0.5, 2 * lo + 1, 0.5 * sg
-            for i in range(n):
-                for l in range(n):
-                    e = i * n + l
-                    Q[c * n + i, d * n + l] += weight * (c1 * F[k1, e] + c2 * F[k2, e])
-                    V[c * n + i, d * n + l] += weight * (c1 * F[k1, nn + e] + c2 * F[k2, nn + e])
-    # wD (H2, H2) has wD[2k-1, 2k] = k w, wD[2k, 2k-1] = -k w, and wD^2 = diag(0, -(w k)^2 twice per k)
-    size = n * H2
-    for r in range(size):
-        for k in range(1, H + 1):
-            wk = omega * k
-            for l in range(n):
-                Q[r, 2 * k * n + l] += wk * V[r, (2 * k - 1) * n + l]
-                Q[r, (2 * k - 1) * n + l] -= wk * V[r, 2 * k * n + l]
-    for k in range(1, H + 1):
-        wk = omega * k
-        ca, sb = (2 * k - 1) * n, 2 * k * n
-        for i in range(n):
-            Q[ca + i, ca + i] += wk * wk
-            Q[sb + i, sb + i] += wk * wk
-            V[ca + i, sb + i] -= 2.0 * wk
-            V[sb + i, ca + i] += 2.0 * wk
+            np.zeros(5, dtype=np.int64), np.empty(size), np.empty(size, dtype=c16), np.empty(2 * n, dtype=c16), kk, cc)
 
 
 @numba.njit(cache=False)
@@ -535,9 +434,9 @@ def hill_step(z, omega, p, A0, jac, ints, E, ED, mu_re, mu_im, track, ws):
     n, H = ints[0], ints[1]
     period = 2.0 * np.pi / omega
     # the work arrays unpacked once: a tuple passed to a function costs a reference count per member
-    y, Aj, f, F, cs, sn, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors, centres = ws[:23]
-    lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest = ws[23:]
-    _hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, sn, A21, A22)
+    y, Aj, f, F, cs, used, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors, centres = ws[:23]
+    lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest, kk, cc = ws[23:]
+    hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, used, kk, cc, A21, A22)
     count = 2 * n
     if track and info[0] == 1 and info[1] < ANCHOR_EVERY - 1:
         _shifts(lam_state, lam_older, lam_oldest, info, sigma)

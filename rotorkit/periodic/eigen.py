@@ -20,6 +20,8 @@ import math
 
 import numba
 import numpy as np
+from numba import types
+from numba.extending import overload
 
 __all__ = ["lu_factor", "lu_solve", "eigenvalues", "complex_lu", "floored_lu", "inverse_solve", "complex_null_vector",
            "null_vector_into", "quadratic_eigenpair", "row_norms", "eigenpair_near"]
@@ -363,13 +365,28 @@ def null_vector_into(G, piv, x):
     lu_solve(G, piv, x, x)
 
 
+def _pack(like, re, im):
+    """``re + i im`` if ``like`` is complex, else ``re`` (in the kernels by :func:`_pack_typed`, on the type)."""
+    return complex(re, im) if isinstance(like, complex) else re
+
+
+@overload(_pack)
+def _pack_typed(like, re, im):
+    if isinstance(like, types.Complex):
+        return lambda like, re, im: complex(re, im)
+    return lambda like, re, im: re
+
+
 @numba.njit(cache=False)
 def _quadratic_matrix(A1, A0, s, G):
-    """``G = A0 + s A1 - s^2 I``."""
+    """``G = A0 + s A1 - s^2 I`` (a real matrix times the real and imaginary parts of ``s`` apart: the values of
+    the complex products, at half the operations)."""
     m = A0.shape[0]
+    sr, si = s.real, s.imag
     for r in range(m):
         for c in range(m):
-            G[r, c] = A0[r, c] + s * A1[r, c]
+            a = A1[r, c]
+            G[r, c] = _pack(s, A0[r, c] + sr * a, si * a)
         G[r, r] -= s * s
 
 
@@ -433,9 +450,12 @@ def eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts=3, st
             # (C - s I) [u'; w'] = [u; w]: (A0 + s A1 - s^2 I) u' = w - (A1 - s I) u, w' = u + s u'
             for r in range(m):
                 t = w[r] + s * u[r]
+                tr, ti = t.real, t.imag
                 for c in range(m):
-                    t -= A1[r, c] * u[c]
-                b[r] = t
+                    a = A1[r, c]
+                    tr -= a * u[c].real
+                    ti -= a * u[c].imag
+                b[r] = _pack(t, tr, ti)
             inverse_solve(G, piv, inv, b)
             num = sigma * 0.0  # zero of the shift's type (the shift is finite)
             den = 0.0
@@ -458,11 +478,15 @@ def eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts=3, st
                 # the residual of the quadratic problem at (lam, u)
                 worst = 0.0
                 for r in range(m):
-                    t0 = u[r] * 0.0
-                    t1 = u[r] * 0.0
+                    r0 = i0 = r1 = i1 = 0.0
                     for c in range(m):
-                        t0 += A0[r, c] * u[c]
-                        t1 += A1[r, c] * u[c]
+                        ur, ui = u[c].real, u[c].imag
+                        r0 += A0[r, c] * ur
+                        i0 += A0[r, c] * ui
+                        r1 += A1[r, c] * ur
+                        i1 += A1[r, c] * ui
+                    t0 = _pack(lam, r0, i0)
+                    t1 = _pack(lam, r1, i1)
                     worst = max(worst, abs(t0 + lam * t1 - lam * lam * u[r]))
                 norm = 0.0
                 for r in range(m):

@@ -1,0 +1,148 @@
+"""Hill's matrix of a point for the compiled harmonic-balance path (:mod:`rotorkit.periodic.compiled_hill`).
+
+The lower blocks of Hill's companion matrix of
+:func:`rotorkit.periodic.stability.hill_exponents`, from the Jacobian of the
+model at the AFT samples of the point, its change from rest projected onto
+the harmonics by sums of ``cos m t``, ``sin m t`` (``m <= 2H``) over the
+samples (:func:`hill_matrix`, the table of those sums per block
+:func:`block_table`).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .compiled_aft import aft_states
+
+__all__ = ["block_table", "hill_matrix"]
+
+
+@numba.njit(cache=False)
+def block_table(H):
+    """The sums giving block ``(c, d)`` of ``proj(D) = P diag(D_j) E`` (:func:`hill_matrix`): ``kk[c, d]``,
+    ``cc[c, d]`` such that the block is ``w_c (cc[c, d, 0] S[kk[c, d, 0]] + cc[c, d, 1] S[kk[c, d, 1]])`` (``S[2 m]``,
+    ``S[2 m + 1]`` the sums of ``cos(m t_j) D_j``, ``sin(m t_j) D_j``; ``w_c = 1 / N`` for ``c = 0``, else
+    ``2 / N``): ``P[c, j] E[j, d]`` is a product of two of 1, ``cos a t``, ``sin a t``, half a sum of two of
+    ``cos m t``, ``sin m t`` (``m <= 2H``)."""
+    H2 = 2 * H + 1
+    kk = np.zeros((H2, H2, 2), dtype=np.int64)
+    cc = np.zeros((H2, H2, 2))
+    for c in range(H2):
+        a = (c + 1) // 2
+        ka = 0 if c == 0 else 2 - c % 2  # harmonic of row block c; kind: 0 constant, 1 cos, 2 sin
+        for d in range(H2):
+            b = (d + 1) // 2
+            kb = 0 if d == 0 else 2 - d % 2
+            lo = abs(a - b)
+            sg = 1.0 if a >= b else -1.0
+            hi = a + b
+            k1, c1, k2, c2 = 0, 1.0, 0, 0.0  # rows 2 m: cosines, 2 m + 1: sines
+            if ka == 0 and kb == 0:
+                pass
+            elif ka == 0:
+                k1 = 2 * b if kb == 1 else 2 * b + 1
+                k2 = k1
+            elif kb == 0:
+                k1 = 2 * a if ka == 1 else 2 * a + 1
+                k2 = k1
+            elif ka == 1 and kb == 1:  # cos a cos b
+                k1, c1, k2, c2 = 2 * lo, 0.5, 2 * hi, 0.5
+            elif ka == 2 and kb == 2:  # sin a sin b
+                k1, c1, k2, c2 = 2 * lo, 0.5, 2 * hi, -0.5
+            elif ka == 1:  # cos a sin b
+                k1, c1, k2, c2 = 2 * hi + 1, 0.5, 2 * lo + 1, -0.5 * sg
+            else:  # sin a cos b
+                k1, c1, k2, c2 = 2 * hi + 1, 0.5, 2 * lo + 1, 0.5 * sg
+            kk[c, d, 0], kk[c, d, 1] = k1, k2
+            cc[c, d, 0], cc[c, d, 1] = c1, c2
+    return kk, cc
+
+
+@numba.njit(cache=False)
+def hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, used, kk, cc, Q, V):
+    """The lower blocks ``A21``, ``A22`` of Hill's matrix ``[[0, I], [A21, A22]]`` of
+    :func:`rotorkit.periodic.stability.hill_exponents` into the workspace, on the frame ``p``, ``A0``,
+    ``omega``, ``period`` at the point's speed (work arrays of :func:`~rotorkit.periodic.compiled_hill.hill_workspace`).
+
+    The reference's ``A21 = -kron(I, M^-1) (Kt + Ct kron(wD, I) + kron(wD^2, M))`` and
+    ``A22 = -kron(I, M^-1) (2 kron(wD, M) + Ct)``, with ``Kt = K0 - proj(M Dq)``, ``Ct = C0 - proj(M Dv)``,
+    ``K0 = -M A_q``, ``C0 = -M A_v`` (``Dq``, ``Dv`` the acceleration Jacobian's change from rest at the AFT
+    samples), without the mass matrix, which cancels: ``A21 = Q + V kron(wD, I) - kron(wD^2, I)`` and
+    ``A22 = V - 2 kron(wD, I)``, ``Q = blockdiag(A_q) + proj(Dq)``, ``V = blockdiag(A_v) + proj(Dv)`` (equal to
+    rounding).
+
+    ``proj(D) = P diag(D_j) E`` block by block from the sums ``F[r, 2 m] = sum_j cos(m t_j) D_j[r]``,
+    ``F[r, 2 m + 1] = sum_j sin(m t_j) D_j[r]`` (``m <= 2H``; ``D_j = (Dq, Dv)`` flat, ``r < 2 n^2``) and the
+    table of :func:`block_table` (``kk``, ``cc``): the same sums as the products, fewer operations; an entry
+    ``r`` zero at every sample (``used[r]`` False: e.g. no contact, or a force without velocity terms) is not
+    summed (the same values: adding zeros)."""
+    n, H, N = ints[0], ints[1], ints[2]
+    H2 = 2 * H + 1
+    nn = n * n
+    F[:, :] = 0.0
+    used[:] = False
+    for j in range(N):
+        aft_states(z, j, omega, E, ED, n, y)
+        Aj[:, :] = 0.0
+        jac(period * j / N, y, p, Aj)
+        for i in range(n):
+            for l in range(n):
+                f[i * n + l] = Aj[n + i, l] - A0[n + i, l]
+                f[nn + i * n + l] = Aj[n + i, n + l] - A0[n + i, n + l]
+        cs[0], cs[1] = 1.0, 0.0  # cos m t_j, sin m t_j interleaved
+        for m in range(1, H + 1):
+            cs[2 * m], cs[2 * m + 1] = E[j, 2 * m - 1], E[j, 2 * m]
+        for m in range(H + 1, H2):  # cos/sin (H + k) t from the addition theorems
+            k = m - H
+            cs[2 * m] = cs[2 * H] * cs[2 * k] - cs[2 * H + 1] * cs[2 * k + 1]
+            cs[2 * m + 1] = cs[2 * H + 1] * cs[2 * k] + cs[2 * H] * cs[2 * k + 1]
+        for r in range(2 * nn):
+            fr = f[r]
+            if fr == 0.0:  # zero here (at rest or out of contact at this instant)
+                continue
+            used[r] = True
+            row = F[r]
+            for m in range(2 * H2):
+                row[m] += cs[m] * fr
+    for c in range(H2):  # V first: Q's blocks take V's (before its wD part) times wD
+        weight = (1.0 if c == 0 else 2.0) / N
+        for d in range(H2):
+            k1, k2 = kk[c, d, 0], kk[c, d, 1]
+            c1, c2 = cc[c, d, 0], cc[c, d, 1]
+            diag = c == d
+            for i in range(n):
+                for l in range(n):
+                    e = i * n + l
+                    v = A0[n + i, n + l] if diag else 0.0
+                    if used[nn + e]:
+                        v += weight * (c1 * F[nn + e, k1] + c2 * F[nn + e, k2])
+                    V[c * n + i, d * n + l] = v
+    for c in range(H2):
+        weight = (1.0 if c == 0 else 2.0) / N
+        for d in range(H2):
+            k1, k2 = kk[c, d, 0], kk[c, d, 1]
+            c1, c2 = cc[c, d, 0], cc[c, d, 1]
+            diag = c == d
+            k = (d + 1) // 2
+            wk = omega * k
+            for i in range(n):
+                for l in range(n):
+                    e = i * n + l
+                    q = A0[n + i, l] if diag else 0.0
+                    if used[e]:
+                        q += weight * (c1 * F[e, k1] + c2 * F[e, k2])
+                    if d > 0:  # V kron(wD, I): wD[2k-1, 2k] = k w, wD[2k, 2k-1] = -k w
+                        if d % 2 == 0:
+                            q += wk * V[c * n + i, (d - 1) * n + l]
+                        else:
+                            q -= wk * V[c * n + i, (d + 1) * n + l]
+                    Q[c * n + i, d * n + l] = q
+    for k in range(1, H + 1):  # wD^2 = diag(0, -(w k)^2 twice per k)
+        wk = omega * k
+        ca, sb = (2 * k - 1) * n, 2 * k * n
+        for i in range(n):
+            Q[ca + i, ca + i] += wk * wk
+            Q[sb + i, sb + i] += wk * wk
+            V[ca + i, sb + i] -= 2.0 * wk
+            V[sb + i, ca + i] += 2.0 * wk
