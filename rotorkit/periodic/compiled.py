@@ -389,15 +389,16 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         out_norm[new] = norm
         out_corner[new] = corner
         new += 1
+        d01 = 0.0 if corner else _distance(u1, u0, 0.0, u0)  # |u1 - u0|
         have_cubic = False
         if not corner and curve_set:  # _cubic(u_prev, t_prev, u0, t0, u1, t1)
-            d_cubic = _distance(u1, u0, 0.0, u0)
+            d_cubic = d01
             if d_cubic != 0.0:
                 d2 = _distance(u0, u_prev, 0.0, u0)
                 for i in range(m):
                     cubic[i] = ((t1[i] - t0[i]) / d_cubic - (t0[i] - t_prev[i]) / d2) / (d_cubic + d2)
                 have_cubic = True
-        curve_set = not corner and _distance(u1, u0, 0.0, u0) != 0.0
+        curve_set = not corner and d01 != 0.0
         u_prev[:] = u0
         t_prev[:] = t0
         u0[:] = u1

@@ -55,13 +55,11 @@ def lu_factor(A, piv):
     return regular
 
 
-@numba.njit(cache=False)
-def lu_solve(LU, piv, b, x):
-    """``x = A^-1 b`` from :func:`lu_factor`'s factors (``x`` may be ``b``)."""
+@numba.njit(cache=False, inline="always")
+def _substitute(LU, piv, x, inv):
+    """``x = A^-1 x`` in place from LU factors with row pivots ``piv``: the row swaps, the forward and the back
+    substitution, dividing by the pivots, or (``inv`` not None) multiplying by their reciprocals ``inv``."""
     m = LU.shape[0]
-    if x is not b:
-        for i in range(m):
-            x[i] = b[i]
     for k in range(m):
         p = piv[k]
         if p != k:
@@ -75,7 +73,19 @@ def lu_solve(LU, piv, b, x):
         s = x[i]
         for j in range(i + 1, m):
             s -= LU[i, j] * x[j]
-        x[i] = s / LU[i, i]
+        if inv is None:
+            x[i] = s / LU[i, i]
+        else:
+            x[i] = s * inv[i]
+
+
+@numba.njit(cache=False)
+def lu_solve(LU, piv, b, x):
+    """``x = A^-1 b`` from :func:`lu_factor`'s factors (``x`` may be ``b``)."""
+    if x is not b:
+        for i in range(LU.shape[0]):
+            x[i] = b[i]
+    _substitute(LU, piv, x, None)
 
 
 @numba.njit(cache=False)
@@ -331,21 +341,7 @@ def floored_lu(G, piv, inv):
 def inverse_solve(LU, piv, inv, x):
     """``x = A^-1 x`` in place from :func:`floored_lu`'s factors, dividing by the pivots as multiplying by their
     reciprocals ``inv`` (a complex division costs several multiplications)."""
-    m = LU.shape[0]
-    for k in range(m):
-        p = piv[k]
-        if p != k:
-            x[k], x[p] = x[p], x[k]
-    for i in range(m):
-        s = x[i]
-        for j in range(i):
-            s -= LU[i, j] * x[j]
-        x[i] = s
-    for i in range(m - 1, -1, -1):
-        s = x[i]
-        for j in range(i + 1, m):
-            s -= LU[i, j] * x[j]
-        x[i] = s * inv[i]
+    _substitute(LU, piv, x, inv)
 
 
 @numba.njit(cache=False)
