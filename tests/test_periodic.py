@@ -391,3 +391,25 @@ def test_docstring_example_runs():
 
     failures, tried = doctest.testmod(periodic, verbose=False)
     assert tried > 0 and failures == 0
+
+
+def test_a_systems_harmonic_balance_is_kept_per_settings_and_the_compiled_path_still_asked(rub_system, monkeypatch):
+    """The harmonic balance of a system is kept for the next branch with the same settings (a system never
+    changes), not across systems or settings; its kept compiled set-up never overrides the per-call choice of
+    the Python path (ROTORKIT_PERIODIC_COMPILED=0)."""
+    from rotorkit.analysis import periodic as analysis
+    from rotorkit.periodic import fastpath
+    from rotorkit.periodic.continuation import ContinuationProblem
+
+    options = dict(speed_parameter="R_speed", harmonics=3, subharmonic=1, samples=None)
+    hb = analysis._harmonic_balance(rub_system, "auto", **options)
+    assert analysis._harmonic_balance(rub_system, "auto", **options) is hb
+    assert analysis._harmonic_balance(rub_system, "auto", **dict(options, harmonics=4)) is not hb
+    other = rub_system.with_parameters(R_speed=70.0)
+    assert analysis._harmonic_balance(other, "auto", **options) is not hb
+    kept = object()
+    monkeypatch.setattr(hb, "_compiled_setup", kept, raising=False)
+    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is None
+    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "1")
+    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is kept
