@@ -310,8 +310,13 @@ class Model:
 
     @property
     def parameter_units(self):
-        """Parameter name -> SI unit string."""
-        return {f"{e.label()}_{f}": u for e in self.elements for f, u in e.parameter_units().items()}
+        """Parameter name -> SI unit string (a new dict each time)."""
+        known = self.__dict__.get("_parameter_units")  # elements are frozen: gathered once per elements tuple
+        if known is None or known[0] is not self.elements:
+            known = (self.elements,
+                     {f"{e.label()}_{f}": u for e in self.elements for f, u in e.parameter_units().items()})
+            self.__dict__["_parameter_units"] = known
+        return dict(known[1])
 
     def parameter_table(self):
         """The parameters as text: name, SI value, unit, element (one line each)."""

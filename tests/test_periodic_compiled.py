@@ -247,3 +247,27 @@ def test_by_default_only_compiled_kernels_are_used(rub_system, both, monkeypatch
     assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is not None
     fastpath.compile_kernels(verbose=False)  # loads them from the disk cache
     assert fastpath._kernel.cache_info().currsize == len(fastpath.KINDS)
+
+
+def test_the_kernels_residual_scales_are_each_points_own_and_the_point_data_reuse_them(rub_system):
+    """The continuation kernel computes each new point's residual scale (the corrector's for the next step, the
+    Python reference's too); the per-point error estimates taken with them equal, to the bit, those that compute
+    the scale at each point's parameter afresh."""
+    from rotorkit.periodic.continuation import ContinuationOptions, continue_branch
+
+    problem = ContinuationProblem(HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3), "R_speed")
+    assert fastpath.compiled_setup(problem) is not None
+    z0 = problem.solve(np.zeros(problem.hb.size), 60.0, tol=1e-10, max_iterations=50)
+    points = continue_branch(problem, z0, 60.0, (60.0, 200.0), z_scale=DELTA,
+                             options=ContinuationOptions(max_points=80))
+    lam = np.asarray(points.parameter)
+    assert len(points.scales) == len(lam) == 80 and points.scales[0] == 0.0  # the start's: not computed
+    expected = [problem.frame(v).scale for v in lam[1:]]  # the Python reference's (hb.Frame)
+    assert np.allclose(points.scales[1:], expected, rtol=1e-13, atol=0)
+    assert np.ptp(points.scales[1:]) > 0.5 * np.max(points.scales)  # they change along the branch (m e W^2)
+    Z = np.reshape(points.coefficients, (len(lam), -1))
+    reused = fastpath.point_data(problem, lam, Z, "none", 4, points.scales)
+    fresh = fastpath.point_data(problem, lam, Z, "none", 4)
+    assert np.array_equal(reused[1], fresh[1]) and np.all(fresh[1] > 0)
+    wrong = fastpath.point_data(problem, lam, Z, "none", 4, 2.0 * np.asarray(points.scales))
+    assert np.allclose(wrong[1][1:], fresh[1][1:] / 2.0, rtol=1e-12)  # the given scales are the ones used

@@ -493,16 +493,17 @@ def _branch(problem, points, stability):
     full = getattr(hb, "full", hb)  # the condensed problem's full harmonic balance
     n, H = hb.n, hb.harmonics
     lam = np.array(points.parameter, dtype=float)
-    raw = [np.asarray(z) for z in points.coefficients]
+    raw = np.array(points.coefficients, dtype=float).reshape(len(lam), -1)  # one row per point
     if full is not hb:
         Z = np.array([hb.expand(z, problem.frame(v)) for z, v in zip(raw, lam)]).reshape(len(lam), 2 * H + 1, n)
     else:
-        Z = np.array(raw).reshape(len(lam), 2 * H + 1, n)
+        Z = raw.reshape(len(lam), 2 * H + 1, n)
     omega, errors, multipliers = [], [], []
     amplitudes = np.hypot(Z[:, 1::2], Z[:, 2::2])  # (points, H, n)
     top = np.max(amplitudes, axis=(1, 2), initial=0.0)
     shares = np.where(top > 0, np.max(amplitudes[:, -1], axis=1, initial=0.0) / np.where(top > 0, top, 1.0), 0.0)
-    compiled = point_data(problem, lam, Z, stability, ERROR_GRID_FACTOR) if full is hb else None
+    scales = points.scales if len(points.scales) == len(lam) else None  # the continuation kernel's
+    compiled = point_data(problem, lam, Z, stability, ERROR_GRID_FACTOR, scales) if full is hb else None
     if compiled is not None:  # the same quantities by the compiled kernel (rotorkit.periodic.fastpath)
         omega, errors, mu = compiled
     else:
@@ -522,9 +523,10 @@ def _branch(problem, points, stability):
         stable = np.all(magnitude <= 1.0 + STABILITY_TOL, axis=1)  # is_stable per point
         unstable = np.sum(magnitude > 1.0 + STABILITY_TOL, axis=1)  # classify_crossing's count
     bifurcations = []
-    tangents = np.array(points.tangents)
-    turns = tangents[:-1, -1] * tangents[1:, -1] < 0
-    events = turns if unstable is None else turns | (unstable[:-1] != unstable[1:])
+    along = np.array(points.tangents)[:, -1]  # the parameter's component of each tangent
+    turns = along[:-1] * along[1:] < 0
+    changes = None if unstable is None else unstable[:-1] != unstable[1:]
+    events = turns if changes is None else turns | changes
     for i in np.flatnonzero(events).tolist():
         if turns[i]:
             grazing = hb.contact and not np.array_equal(problem.contact_state(raw[i], lam[i]),
@@ -532,7 +534,7 @@ def _branch(problem, points, stability):
             extreme = grazing_point(problem, lam, raw, i) if grazing else turning_point(lam, Z, i)
             bifurcations.append(Bifurcation("grazing fold" if grazing else "fold", i,
                                             extreme))
-        if mu is not None:
+        if changes is not None and changes[i]:
             kind = classify_crossing(mu[i], mu[i + 1])  # None unless the count of unstable multipliers changes
             if kind in ("period doubling", "Neimark-Sacker"):
                 a = np.max(np.abs(mu[i])) - 1.0

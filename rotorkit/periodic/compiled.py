@@ -125,10 +125,10 @@ def _full_jacobian(u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, wind
 
 
 @numba.njit(cache=False, inline="always")  # inlined: a call passing the work arrays costs ~0.2 us
-def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF):
+def _correct(u_pred, tvec, u, scale, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF):
     """The corrector of :func:`~rotorkit.periodic.continuation.continue_branch`: ``(converged, iterations,
     norm, factored)``, the solution in ``u`` and Newton's matrix in ``JF`` (the last evaluated: Newton's
-    ``lazy_jacobian``), ``factored`` as :func:`newton`'s.
+    ``lazy_jacobian``), ``factored`` as :func:`newton`'s; ``scale`` the residual scale of the last point.
 
     ``dR/dlambda`` (frozen at the prediction) is the forward difference of step ``d_lam`` from the residual
     at the prediction, which is also Newton's first evaluation."""
@@ -138,7 +138,6 @@ def _correct(u_pred, tvec, u, rhs, jac, ints, fl, E, P, ED, M, base, varying, co
     for i in range(size):
         zp[i] = u_pred[i] * z_scale
     lp = u_pred[size] * l_scale
-    scale = force_scale_into(lp, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
     if not residual(zp, lp, True, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, Rz, Jz):
         return False, 0, np.inf, False
     if not residual_same_states(zp, lp + fl[5], rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws,
@@ -186,8 +185,8 @@ def _distance(a, b, h, c):
 
 
 @numba.njit(cache=False)
-def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F,
-            JF):
+def _corner(u0, t0, h, u1, t_new, scale, rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb,
+            F, JF):
     """:func:`rotorkit.periodic.continuation._corner`: ``(accepted, iterations, norm)``."""
     m = u0.shape[0]
     size = m - 1
@@ -216,7 +215,7 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
         for i in range(m):
             t1[i] = -t1[i]
     u_pred = u0 + h * t1
-    ok, iterations, norm, factored = _correct(u_pred, t1, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
+    ok, iterations, norm, factored = _correct(u_pred, t1, u1, scale, rhs, jac, ints, fl, E, P, ED, M, base, varying,
                                               coef, window, ws, nb, F, JF)
     if not ok:
         return False, 0, 0.0
@@ -234,7 +233,7 @@ def _corner(u0, t0, h, u1, t_new, rhs, jac, sw, ints, fl, E, P, ED, M, base, var
 
 @numba.njit(cache=False)
 def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, trig, terms, weights, u0, t0,
-                    out_u, out_t, out_norm, out_corner):
+                    out_u, out_t, out_norm, out_scale, out_corner):
     """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
     resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent
     is computed first (along ``fl[10]``); ``ints[9] == 2``: only Newton at ``fl[11]`` (tolerance ``fl[9]``) from
@@ -244,7 +243,9 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     into ``out_norm[0]`` and per switch whether it is positive at some sample into ``out_corner``; ``ints[9] ==
     5``: the grazing fold between the points ``out_u`` (6 rows, :func:`~rotorkit.periodic.compiled_folds.grazing_value`;
     ``out_corner[:6]`` which exist, ``ints[6]`` steps per piece, ``ints[8]`` aims per step) into ``out_norm[0]``.
-    Returns ``(status, new points)``; ``fl[6]`` holds the next step. ``trig``, ``terms``, ``weights``: the AFT
+    Returns ``(status, new points)``; ``fl[6]`` holds the next step; ``out_scale`` each new point's residual
+    scale (:func:`~rotorkit.periodic.compiled_aft.scale_at_rest` at its parameter: the corrector's for the next
+    step, and the per-point data's). ``trig``, ``terms``, ``weights``: the AFT
     Jacobian's tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`); ``functions`` the addresses of the
     model's ``rhs``, ``jac`` and ``switches`` (:func:`~rotorkit.periodic.compiled_functions.function_addresses`)."""
     rhs = core_function(functions[0], functions[1])
@@ -310,6 +311,8 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
                 t0[i] = -t0[i]
     h = fl[6]
     new = 0
+    # the residual scale of the last point (of u0 first): the corrector's, and the per-point data's of each new point
+    scale = force_scale_into(u0[size] * fl[2], rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
     u1 = np.empty(m)
     t1 = np.empty(m)
     u_pred = np.empty(m)
@@ -342,8 +345,8 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
                 u_pred[i] += h * h * cubic[i] * d_cubic / 2.0
             for i in range(m):
                 u_pred[i] += h * h * h * cubic[i] / 3.0
-        ok, iterations, norm, factored = _correct(u_pred, t0, u1, rhs, jac, ints, fl, E, P, ED, M, base, varying,
-                                                  coef, window, ws, nb, F, JF)
+        ok, iterations, norm, factored = _correct(u_pred, t0, u1, scale, rhs, jac, ints, fl, E, P, ED, M, base,
+                                                  varying, coef, window, ws, nb, F, JF)
         if ok and _distance(u1, u_pred, 0.0, u_pred) <= h:
             if _corrected_tangent(factored, JF, t1, nb):
                 cosine = 0.0
@@ -352,7 +355,7 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
                 if cosine > 0.7 or h <= 4.0 * min_step:
                     accepted = True
         if not accepted and contact:
-            accepted, iterations, norm = _corner(u0, t0, h, u1, t1, rhs, jac, sw, ints, fl, E, P, ED, M, base,
+            accepted, iterations, norm = _corner(u0, t0, h, u1, t1, scale, rhs, jac, sw, ints, fl, E, P, ED, M, base,
                                                  varying, coef, window, ws, nb, F, JF)
             corner = accepted
         if not accepted:
@@ -377,6 +380,7 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
                 out_u[new, size] = bound
                 out_t[new] = t1
                 out_norm[new] = nrm
+                out_scale[new] = force_scale_into(bound, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
                 out_corner[new] = False
                 new += 1
             fl[6] = h
@@ -388,6 +392,8 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         out_t[new] = t1
         out_norm[new] = norm
         out_corner[new] = corner
+        scale = force_scale_into(lam1, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
+        out_scale[new] = scale
         new += 1
         d01 = 0.0 if corner else _distance(u1, u0, 0.0, u0)  # |u1 - u0|
         have_cubic = False

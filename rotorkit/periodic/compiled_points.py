@@ -39,9 +39,9 @@ def _frame(lam, jac, ints, fl, base, varying, coef, window, p, A0, rest):
 
 @numba.njit(cache=False)
 def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, EG, EDG, EDDG, lams, Zs,
-                      errors, mu_re, mu_im, hill_ok):
-    """Per point: the truncation-error estimate (max |M (q'' - a)| on the grid of ``EG``'s rows over the scale)
-    and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed).
+                      scales, errors, mu_re, mu_im, hill_ok):
+    """Per point: the truncation-error estimate (max |M (q'' - a)| on the grid of ``EG``'s rows over the residual
+    scale, ``scales[i]`` where positive (the continuation kernel's), else computed here) and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed).
     ``functions``: the addresses of the model's ``rhs`` and ``jac`` (the first four of
     :func:`~rotorkit.periodic.compiled_functions.function_addresses`), called as the continuation kernel calls them."""
     rhs = core_function(functions[0], functions[1])
@@ -64,7 +64,9 @@ def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, win
         lam = lams[pt]
         z = Zs[pt]
         omega = _frame(lam, jac, ints, fl, base, varying, coef, window, p, A0, rest)
-        scale = scale_at_rest(rhs, p, 2.0 * np.pi / omega, n, ints[2], M, P, rest, a, rest_f)  # this frame's
+        scale = scales[pt]
+        if not scale > 0.0:
+            scale = scale_at_rest(rhs, p, 2.0 * np.pi / omega, n, ints[2], M, P, rest, a, rest_f)  # this frame's
         for i in range(n):
             rq, rv, ra = Yq[i], Yv[i], Ya[i]
             rq[:] = 0.0

@@ -19,6 +19,8 @@ prediction normal to ``t_0`` (damped Newton, :func:`rotorkit.periodic.hb.newton`
 with its ``lazy_jacobian``: a trial point's Jacobian is evaluated only where
 another step follows, and the tangent at the corrected point is taken with
 the last one evaluated, as ``dR/dlambda`` is the one at the prediction).
+Its residual scale (the convergence test's and the hyperplane row's weight) is the last point's, the forces
+at rest at its parameter: computed once per point, and the point's error estimate reuses it.
 The step grows by 1.5 after an easy correction (<= 3 iterations), shrinks
 after a hard one, and halves after a failure, down to ``min_step``. A
 corrected point farther than ``h`` from its prediction counts as a failure
@@ -162,13 +164,19 @@ class ContinuationOptions:
 
 @dataclass
 class BranchPoints:
-    """Raw output of :func:`continue_branch`: solutions in order along the branch and why it stopped."""
+    """Raw output of :func:`continue_branch`: solutions in order along the branch and why it stopped.
+
+    ``parameter``, ``coefficients``, ``tangents`` and ``residuals`` hold one entry (a row) per point: lists
+    from the Python loop, arrays from the compiled kernel (:func:`rotorkit.periodic.fastpath.continue_compiled`),
+    which also gives ``scales``, each point's residual scale (zero where it did not compute it: the start; empty
+    from the Python loop)."""
 
     parameter: list = field(default_factory=list)
     coefficients: list = field(default_factory=list)
     tangents: list = field(default_factory=list)
     residuals: list = field(default_factory=list)
     corners: list = field(default_factory=list)  # indices of points reached through a grazing corner
+    scales: list = field(default_factory=list)
     reason: str = ""
 
 
@@ -226,10 +234,10 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
         t = np.linalg.solve(np.vstack([A, reference[None, :]]), np.concatenate([np.zeros(A.shape[0]), [1.0]]))
         return t / np.linalg.norm(t)
 
-    def correct(u_pred, t):
-        """Newton on the hyperplane normal to ``t`` through ``u_pred``; dR/dlambda frozen at the prediction."""
+    def correct(u_pred, t, scale):
+        """Newton on the hyperplane normal to ``t`` through ``u_pred``; dR/dlambda frozen at the prediction;
+        ``scale`` the residual scale of the last point."""
         zp, lp = unscale(u_pred)
-        scale = problem.frame(lp).scale
         column = problem.parameter_derivative(zp, lp, d_lam)[:, None] * l_scale
 
         def fun(u, jacobian):
@@ -254,6 +262,11 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
     out.residuals.append(0.0)
     h = opts.step
     curve = cubic = u_before = t_before = None
+    scale = problem.frame(unscale(u0)[1]).scale  # the last point's residual scale: the corrector's
+
+    def correct_here(u_pred, t):
+        return correct(u_pred, t, scale)
+
     while True:
         if len(out.parameter) >= opts.max_points:
             out.reason = f"point budget of {opts.max_points} points reached"
@@ -269,7 +282,7 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
                     b, d1 = cubic
                     u_pred = u_pred + h * h * b * d1 / 2.0
                     u_pred = u_pred + h * h * h * b / 3.0
-            u1, iterations, norm, J1 = correct(u_pred, t0)
+            u1, iterations, norm, J1 = correct_here(u_pred, t0)
             if np.linalg.norm(u1 - u_pred) <= h:
                 t1 = _corrected_tangent(J1)
                 if float(t1 @ t0) > 0.7 or h <= 4.0 * opts.min_step:
@@ -277,7 +290,7 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
         except (ConvergenceError, np.linalg.LinAlgError):
             pass
         if accepted is None and problem.hb.contact:
-            accepted = _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct)
+            accepted = _corner(problem, unscale, u0, t0, h, full_jacobian, tangent, correct_here)
         if accepted is None:
             h *= 0.5
             if h < opts.min_step:
@@ -303,6 +316,7 @@ def continue_branch(problem, z0, lam0, bounds, *, z_scale, options=None, progres
         out.coefficients.append(z1)
         out.tangents.append(t1 * scales)
         out.residuals.append(norm)
+        scale = problem.frame(lam1).scale
         if corner:
             out.corners.append(len(out.parameter) - 1)
         if progress is not None:

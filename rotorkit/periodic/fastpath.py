@@ -229,9 +229,9 @@ def _signature(kind):
     fit = (vec, ivec, mat, vec)  # base, varying, coef, window
     if kind == "continue":
         tables = (mat, types.int64[:, :, ::1], types.float64[:, :, ::1])  # trig, terms, weights
-        return types.Tuple((types.int64, types.int64))(ivec, *common, *fit, *tables, vec, vec, mat, mat, vec,
+        return types.Tuple((types.int64, types.int64))(ivec, *common, *fit, *tables, vec, vec, mat, mat, vec, vec,
                                                        types.boolean[::1])
-    return types.void(ivec, *common, *fit, mat, mat, mat, vec, mat, vec, mat, mat, types.boolean[::1])
+    return types.void(ivec, *common, *fit, mat, mat, mat, vec, mat, vec, vec, mat, mat, types.boolean[::1])
 
 
 KINDS = ("continue", "points")
@@ -337,43 +337,46 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
     kernel = _entry("continue")
     chunk = CHUNK if progress is not None else opts.max_points
     first = True
+    count = 1  # points so far, the start included
+    pieces = []  # (rows of [z, lambda], tangents, norms) per kernel call
     while True:
-        ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk, count=max(len(out.parameter), 1),
+        ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk, count=count,
                           max_points=opts.max_points, start=first)
         rows = chunk + 1
         out_u, out_t = np.zeros((rows, size + 1)), np.zeros((rows, size + 1))
-        out_norm, out_corner = np.zeros(rows), np.zeros(rows, dtype=np.bool_)
+        out_norm, out_scale, out_corner = np.zeros(rows), np.zeros(rows), np.zeros(rows, dtype=np.bool_)
         status, new = kernel(setup.addresses, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
                              setup.base, setup.varying, setup.coef, setup.window, setup.trig, setup.terms,
-                             setup.weights, u0, t0, out_u, out_t, out_norm, out_corner)
+                             setup.weights, u0, t0, out_u, out_t, out_norm, out_scale, out_corner)
         if first:
             if status < 0:
                 return False  # a singular start tangent: the Python path raises its error
-            out.parameter.append(float(lam0))
-            out.coefficients.append(np.array(z0, dtype=float))
-            out.tangents.append(t0 * scales)
-            out.residuals.append(0.0)
+            pieces.append((np.append(np.asarray(z0, dtype=float), float(lam0))[None, :], (t0 * scales)[None, :],
+                           np.zeros(1), np.zeros(1)))  # the start's residual scale: not computed (zero)
             first = False
-        count = len(out.parameter)
-        out.parameter.extend(out_u[:new, size].tolist())
-        out.coefficients.extend(out_u[:new, :size].copy())
-        out.tangents.extend(out_t[:new] * scales)
-        out.residuals.extend(out_norm[:new].tolist())
+        pieces.append((out_u[:new], out_t[:new] * scales, out_norm[:new], out_scale[:new]))
         out.corners.extend((count + np.flatnonzero(out_corner[:new])).tolist())
         if progress is not None:
             for k in range(new if status != BOUND else new - 1):
-                progress(count + k + 1, out.parameter[count + k])
-        if status == BUDGET:
-            out.reason = f"point budget of {opts.max_points} points reached"
-            return True
-        if status == BOUND:
-            out.reason = f"parameter bound {problem.parameter}={fl[11]:g} reached"
-            return True
-        if status == MIN_STEP:
-            out.reason = (f"no convergence at the minimum step {opts.min_step:g} at {problem.parameter}="
-                          f"{out.parameter[-1]:.6g} (a branch point or a non-smooth point the corner rule does not "
-                          "pass)")
-            return True
+                progress(count + k + 1, float(out_u[k, size]))
+        count += new
+        if status in (BUDGET, BOUND, MIN_STEP):
+            break
+    U = np.concatenate([piece[0] for piece in pieces])
+    out.parameter = U[:, size].copy()
+    out.coefficients = U[:, :size]
+    out.tangents = np.concatenate([piece[1] for piece in pieces])
+    out.residuals = np.concatenate([piece[2] for piece in pieces])
+    out.scales = np.concatenate([piece[3] for piece in pieces])
+    if status == BUDGET:
+        out.reason = f"point budget of {opts.max_points} points reached"
+    elif status == BOUND:
+        out.reason = f"parameter bound {problem.parameter}={fl[11]:g} reached"
+    else:
+        out.reason = (f"no convergence at the minimum step {opts.min_step:g} at {problem.parameter}="
+                      f"{out.parameter[-1]:.6g} (a branch point or a non-smooth point the corner rule does not "
+                      "pass)")
+    return True
 
 
 def solve_compiled(problem, guess, lam, *, tol, max_iterations):
@@ -403,7 +406,7 @@ def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1, out_u=Non
     result = _entry("continue")(setup.addresses, setup.ints(max_iterations=max_iterations, start=mode, **ints), fl,
                                 setup.E, setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
                                 setup.window, setup.trig, setup.terms, setup.weights, u0, t0, out_u, out_u, out_norm,
-                                out_corner)
+                                out_norm, out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -467,16 +470,18 @@ def grazing_compiled(problem, lam, Z, i, *, tol, max_iterations, steps, tries):
     _entry("continue")(setup.addresses, setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries,
                                                    start=5), fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
                        setup.varying, setup.coef, setup.window, setup.trig, setup.terms, setup.weights, setup._zero,
-                       setup._zero, points, points, out_norm, valid)
+                       setup._zero, points, points, out_norm, out_norm, valid)
     return float(out_norm[0])
 
 
-def point_data(problem, parameter, coefficients, stability, grid_factor):
+def point_data(problem, parameter, coefficients, stability, grid_factor, scales=None):
     """Per point ``(omega, residual_error, multipliers or None)`` by the compiled kernel, or None where it does
     not apply (module notes) or a Hill QR iteration failed at every point.
 
-    ``coefficients`` (n_points, 2H + 1, n); the error grid has ``grid_factor`` times the AFT samples. A point
-    whose QR iteration fails gets its multipliers from :func:`~rotorkit.periodic.stability.hill_multipliers`.
+    ``coefficients`` (n_points, 2H + 1, n); the error grid has ``grid_factor`` times the AFT samples;
+    ``scales``: the points' residual scales where known (the continuation kernel's
+    :attr:`~rotorkit.periodic.continuation.BranchPoints.scales`; zero or None: computed here). A point whose QR
+    iteration fails gets its multipliers from :func:`~rotorkit.periodic.stability.hill_multipliers`.
     """
     if stability not in ("hill", "none"):
         return None
@@ -492,9 +497,12 @@ def point_data(problem, parameter, coefficients, stability, grid_factor):
     errors = np.zeros(count)
     mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
     ok = np.ones(count, dtype=np.bool_)
+    known = np.zeros(count) if scales is None else np.array(scales, dtype=float)
+    if known.shape != (count,):
+        raise ValueError(f"expected {count} residual scales, got shape {known.shape}")
     fl = np.array([setup.s0])
     _entry("points")(setup.addresses, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
-                     setup.varying, setup.coef, setup.window, EG, EDG, EDDG, lam, Z, errors, mu_re, mu_im, ok)
+                     setup.varying, setup.coef, setup.window, EG, EDG, EDDG, lam, Z, known, errors, mu_re, mu_im, ok)
     omega = lam / hb.subharmonic
     if not hill:
         return omega, errors, None
