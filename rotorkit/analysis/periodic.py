@@ -502,8 +502,10 @@ def _branch(problem, points, stability):
     amplitudes = np.hypot(Z[:, 1::2], Z[:, 2::2])  # (points, H, n)
     top = np.max(amplitudes, axis=(1, 2), initial=0.0)
     shares = np.where(top > 0, np.max(amplitudes[:, -1], axis=1, initial=0.0) / np.where(top > 0, top, 1.0), 0.0)
-    scales = points.scales if len(points.scales) == len(lam) else None  # the continuation kernel's
-    compiled = point_data(problem, lam, Z, stability, ERROR_GRID_FACTOR, scales) if full is hb else None
+    given = len(points.scales) == len(lam)  # the continuation kernel's scales and accelerations
+    compiled = None if full is not hb else point_data(
+        problem, lam, Z, stability, ERROR_GRID_FACTOR, points.scales if given else None,
+        points.accelerations if given else None)
     if compiled is not None:  # the same quantities by the compiled kernel (rotorkit.periodic.fastpath)
         omega, errors, mu = compiled
     else:

@@ -155,6 +155,19 @@ def _correct(u_pred, tvec, u, scale, rhs, jac, ints, fl, E, P, ED, M, base, vary
     return ok, iterations, norm, factored
 
 
+@numba.njit(cache=False, inline="always")
+def _accelerations(ws, lam, out):
+    """The last residual's accelerations at the AFT samples into ``out`` (N, n) if it was evaluated at ``lam``
+    (Newton's last evaluation is its solution), else ``nan`` in ``out[0, 0]``."""
+    if ws[18][0] != lam:
+        out[0, 0] = np.nan
+        return
+    acc = ws[17]
+    for j in range(acc.shape[0]):
+        for i in range(acc.shape[1]):
+            out[j, i] = acc[j, i]
+
+
 @numba.njit(cache=False)
 def _curvature(u_prev, u0, t0, t_prev, smooth, curve):
     """The predictor's quadratic term (the reference's ``_curvature``): ``(t0 - t_prev) / (2 d)``,
@@ -233,7 +246,7 @@ def _corner(u0, t0, h, u1, t_new, scale, rhs, jac, sw, ints, fl, E, P, ED, M, ba
 
 @numba.njit(cache=False)
 def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, trig, terms, weights, u0, t0,
-                    out_u, out_t, out_norm, out_scale, out_corner):
+                    out_u, out_t, out_norm, out_scale, out_acc, out_corner):
     """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
     resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent
     is computed first (along ``fl[10]``); ``ints[9] == 2``: only Newton at ``fl[11]`` (tolerance ``fl[9]``) from
@@ -245,7 +258,9 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     ``out_corner[:6]`` which exist, ``ints[6]`` steps per piece, ``ints[8]`` aims per step) into ``out_norm[0]``.
     Returns ``(status, new points)``; ``fl[6]`` holds the next step; ``out_scale`` each new point's residual
     scale (:func:`~rotorkit.periodic.compiled_aft.scale_at_rest` at its parameter: the corrector's for the next
-    step, and the per-point data's). ``trig``, ``terms``, ``weights``: the AFT
+    step, and the per-point data's), ``out_acc`` (rows, N, n) its accelerations at the AFT samples (the last
+    residual's, at the point: the per-point error estimate's there; ``nan`` first where the last residual was
+    elsewhere). ``trig``, ``terms``, ``weights``: the AFT
     Jacobian's tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`); ``functions`` the addresses of the
     model's ``rhs``, ``jac`` and ``switches`` (:func:`~rotorkit.periodic.compiled_functions.function_addresses`)."""
     rhs = core_function(functions[0], functions[1])
@@ -380,6 +395,7 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
                 out_u[new, size] = bound
                 out_t[new] = t1
                 out_norm[new] = nrm
+                _accelerations(ws, bound, out_acc[new])
                 out_scale[new] = force_scale_into(bound, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
                 out_corner[new] = False
                 new += 1
@@ -392,6 +408,7 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         out_t[new] = t1
         out_norm[new] = norm
         out_corner[new] = corner
+        _accelerations(ws, lam1, out_acc[new])
         scale = force_scale_into(lam1, rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
         out_scale[new] = scale
         new += 1

@@ -121,15 +121,17 @@ def aft_states(z, j, omega, E, ED, n, y):
 @numba.njit(cache=False)
 def workspace(ints, base, trig, terms, weights):
     """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
-    ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights, V)``; ``info`` holds the speed
-    of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
+    ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights, V, acc, last)``; ``info`` holds the
+    speed of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
     ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G``, ``S`` the
-    Jacobian's sums, ``V`` (N, n) the last residual's velocities per unit base frequency."""
+    Jacobian's sums, ``V`` (N, n) the last residual's velocities per unit base frequency, ``acc`` (N, n) its
+    accelerations ``a(t_j, y_j)`` and ``last[0]`` its parameter (nan before the first)."""
     n, N = ints[0], ints[2]
     H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
             np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
-            np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights, np.empty((N, n)))
+            np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights, np.empty((N, n)),
+            np.empty((N, n)), np.full(1, np.nan))
 
 
 @functools.lru_cache(maxsize=16)
@@ -236,7 +238,7 @@ def _residual(z, lam, want, same, rhs, jac, ints, fl, E, P, ED, M, base, varying
     H2 = E.shape[1]
     frame_into(lam, jac, ints, fl, base, varying, coef, window, M, ws)
     p, A0, K, C, info = ws[0], ws[1], ws[2], ws[3], ws[4]
-    Y, a, g, f = ws[6], ws[7], ws[8], ws[9]
+    Y, a, g, f, acc = ws[6], ws[7], ws[8], ws[9], ws[17]
     omega, period = info[1], info[2]
     # R = L z per block: K z_0; (K - (kw)^2 M) a_k + kw C b_k; -kw C a_k + (K - (kw)^2 M) b_k
     for i in range(n):
@@ -279,6 +281,7 @@ def _residual(z, lam, want, same, rhs, jac, ints, fl, E, P, ED, M, base, varying
             a[i] = 0.0
         rhs(t, y, p, a)
         for i in range(n):
+            acc[j, i] = a[n + i]
             s = a[n + i]
             for k in range(2 * n):
                 s -= A0[n + i, k] * y[k]
@@ -294,6 +297,7 @@ def _residual(z, lam, want, same, rhs, jac, ints, fl, E, P, ED, M, base, varying
             for j in range(N):
                 s -= P[h, j] * f[j, i]
             R[h * n + i] = s
+    ws[18][0] = lam
     if want:
         jacobian_at_states(jac, ints, E, M, ws, J)
     s = 0.0

@@ -39,9 +39,11 @@ def _frame(lam, jac, ints, fl, base, varying, coef, window, p, A0, rest):
 
 @numba.njit(cache=False)
 def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, EG, EDG, EDDG, lams, Zs,
-                      scales, errors, mu_re, mu_im, hill_ok):
+                      scales, accs, errors, mu_re, mu_im, hill_ok):
     """Per point: the truncation-error estimate (max |M (q'' - a)| on the grid of ``EG``'s rows over the residual
-    scale, ``scales[i]`` where positive (the continuation kernel's), else computed here) and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed).
+    scale, ``scales[i]`` where positive (the continuation kernel's), else computed here; at the grid's AFT
+    samples, every ``G / N``-th instant, ``a`` is ``accs[i]`` (N, n: the continuation's last residual's) unless
+    ``accs[i, 0, 0]`` is nan) and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed).
     ``functions``: the addresses of the model's ``rhs`` and ``jac`` (the first four of
     :func:`~rotorkit.periodic.compiled_functions.function_addresses`), called as the continuation kernel calls them."""
     rhs = core_function(functions[0], functions[1])
@@ -80,14 +82,21 @@ def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, win
                     rv[j] += ev[j] * c
                     ra[j] += ea[j] * c
         worst = 0.0
+        given = accs[pt]
+        step = G // given.shape[0] if given.shape[0] > 0 and not np.isnan(given[0, 0]) else 0  # G: a multiple of N
         for j in range(G):
-            t = 2.0 * np.pi * j / (G * omega)
             for i in range(n):
-                y[i] = Yq[i, j]
-                y[n + i] = omega * Yv[i, j]
                 acc[i] = omega * omega * Ya[i, j]
-            a[:] = 0.0
-            rhs(t, y, p, a)
+            if step > 0 and j % step == 0:  # an AFT sample: the continuation evaluated a there
+                for i in range(n):
+                    a[n + i] = given[j // step, i]
+            else:
+                t = 2.0 * np.pi * j / (G * omega)
+                for i in range(n):
+                    y[i] = Yq[i, j]
+                    y[n + i] = omega * Yv[i, j]
+                a[:] = 0.0
+                rhs(t, y, p, a)
             for i in range(n):
                 s = 0.0
                 for k in range(n):

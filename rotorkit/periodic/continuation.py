@@ -169,7 +169,8 @@ class BranchPoints:
     ``parameter``, ``coefficients``, ``tangents`` and ``residuals`` hold one entry (a row) per point: lists
     from the Python loop, arrays from the compiled kernel (:func:`rotorkit.periodic.fastpath.continue_compiled`),
     which also gives ``scales``, each point's residual scale (zero where it did not compute it: the start; empty
-    from the Python loop)."""
+    from the Python loop), and ``accelerations`` (n_points, N, n), each point's accelerations at its AFT samples
+    (its last residual's; nan first where unknown), which the point's error estimate reuses."""
 
     parameter: list = field(default_factory=list)
     coefficients: list = field(default_factory=list)
@@ -177,6 +178,7 @@ class BranchPoints:
     residuals: list = field(default_factory=list)
     corners: list = field(default_factory=list)  # indices of points reached through a grazing corner
     scales: list = field(default_factory=list)
+    accelerations: list = field(default_factory=list)
     reason: str = ""
 
 

@@ -227,11 +227,12 @@ def _signature(kind):
     ivec = types.int64[::1]
     common = (ivec, vec, mat, mat, mat, mat)  # ints, fl, E, P, ED, M
     fit = (vec, ivec, mat, vec)  # base, varying, coef, window
+    cube = types.float64[:, :, ::1]
     if kind == "continue":
-        tables = (mat, types.int64[:, :, ::1], types.float64[:, :, ::1])  # trig, terms, weights
+        tables = (mat, types.int64[:, :, ::1], cube)  # trig, terms, weights
         return types.Tuple((types.int64, types.int64))(ivec, *common, *fit, *tables, vec, vec, mat, mat, vec, vec,
-                                                       types.boolean[::1])
-    return types.void(ivec, *common, *fit, mat, mat, mat, vec, mat, vec, vec, mat, mat, types.boolean[::1])
+                                                       cube, types.boolean[::1])
+    return types.void(ivec, *common, *fit, mat, mat, mat, vec, mat, vec, cube, vec, mat, mat, types.boolean[::1])
 
 
 KINDS = ("continue", "points")
@@ -299,6 +300,8 @@ def _entry(kind):
 
 
 _ENTRIES = {}
+#: the continuation kernel's accelerations output where a call does not use it (its small services)
+_NO_ACCELERATIONS = np.empty((1, 1, 1))
 
 
 @functools.lru_cache(maxsize=None)
@@ -345,16 +348,18 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
         rows = chunk + 1
         out_u, out_t = np.zeros((rows, size + 1)), np.zeros((rows, size + 1))
         out_norm, out_scale, out_corner = np.zeros(rows), np.zeros(rows), np.zeros(rows, dtype=np.bool_)
+        out_acc = np.empty((rows, setup.hb.samples, setup.hb.n))
         status, new = kernel(setup.addresses, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
                              setup.base, setup.varying, setup.coef, setup.window, setup.trig, setup.terms,
-                             setup.weights, u0, t0, out_u, out_t, out_norm, out_scale, out_corner)
+                             setup.weights, u0, t0, out_u, out_t, out_norm, out_scale, out_acc, out_corner)
         if first:
             if status < 0:
                 return False  # a singular start tangent: the Python path raises its error
+            unknown = np.full((1, setup.hb.samples, setup.hb.n), np.nan)  # the start's scale and accelerations
             pieces.append((np.append(np.asarray(z0, dtype=float), float(lam0))[None, :], (t0 * scales)[None, :],
-                           np.zeros(1), np.zeros(1)))  # the start's residual scale: not computed (zero)
+                           np.zeros(1), np.zeros(1), unknown))
             first = False
-        pieces.append((out_u[:new], out_t[:new] * scales, out_norm[:new], out_scale[:new]))
+        pieces.append((out_u[:new], out_t[:new] * scales, out_norm[:new], out_scale[:new], out_acc[:new]))
         out.corners.extend((count + np.flatnonzero(out_corner[:new])).tolist())
         if progress is not None:
             for k in range(new if status != BOUND else new - 1):
@@ -368,6 +373,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
     out.tangents = np.concatenate([piece[1] for piece in pieces])
     out.residuals = np.concatenate([piece[2] for piece in pieces])
     out.scales = np.concatenate([piece[3] for piece in pieces])
+    out.accelerations = np.concatenate([piece[4] for piece in pieces])
     if status == BUDGET:
         out.reason = f"point budget of {opts.max_points} points reached"
     elif status == BOUND:
@@ -406,7 +412,7 @@ def _call(setup, mode, u0, t0, fl, *, max_iterations=0, corner_size=1, out_u=Non
     result = _entry("continue")(setup.addresses, setup.ints(max_iterations=max_iterations, start=mode, **ints), fl,
                                 setup.E, setup.P, setup.ED, setup.mass, setup.base, setup.varying, setup.coef,
                                 setup.window, setup.trig, setup.terms, setup.weights, u0, t0, out_u, out_u, out_norm,
-                                out_norm, out_corner)
+                                out_norm, _NO_ACCELERATIONS, out_corner)
     return result, out_u[0, :size], out_norm[0], out_corner
 
 
@@ -470,18 +476,20 @@ def grazing_compiled(problem, lam, Z, i, *, tol, max_iterations, steps, tries):
     _entry("continue")(setup.addresses, setup.ints(max_iterations=max_iterations, max_new=steps, max_points=tries,
                                                    start=5), fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
                        setup.varying, setup.coef, setup.window, setup.trig, setup.terms, setup.weights, setup._zero,
-                       setup._zero, points, points, out_norm, out_norm, valid)
+                       setup._zero, points, points, out_norm, out_norm, _NO_ACCELERATIONS, valid)
     return float(out_norm[0])
 
 
-def point_data(problem, parameter, coefficients, stability, grid_factor, scales=None):
+def point_data(problem, parameter, coefficients, stability, grid_factor, scales=None, accelerations=None):
     """Per point ``(omega, residual_error, multipliers or None)`` by the compiled kernel, or None where it does
     not apply (module notes) or a Hill QR iteration failed at every point.
 
     ``coefficients`` (n_points, 2H + 1, n); the error grid has ``grid_factor`` times the AFT samples;
     ``scales``: the points' residual scales where known (the continuation kernel's
-    :attr:`~rotorkit.periodic.continuation.BranchPoints.scales`; zero or None: computed here). A point whose QR
-    iteration fails gets its multipliers from :func:`~rotorkit.periodic.stability.hill_multipliers`.
+    :attr:`~rotorkit.periodic.continuation.BranchPoints.scales`; zero or None: computed here);
+    ``accelerations`` (n_points, N, n): the accelerations at each point's AFT samples where known (the kernel's
+    ``BranchPoints.accelerations``; nan first, or None: evaluated here). A point whose QR iteration fails gets its
+    multipliers from :func:`~rotorkit.periodic.stability.hill_multipliers`.
     """
     if stability not in ("hill", "none"):
         return None
@@ -500,9 +508,17 @@ def point_data(problem, parameter, coefficients, stability, grid_factor, scales=
     known = np.zeros(count) if scales is None else np.array(scales, dtype=float)
     if known.shape != (count,):
         raise ValueError(f"expected {count} residual scales, got shape {known.shape}")
+    shape = (count, hb.samples, hb.n)
+    if accelerations is None:
+        accs = np.full(shape, np.nan)
+    else:
+        accs = np.ascontiguousarray(accelerations, dtype=float)
+        if accs.shape != shape:
+            raise ValueError(f"expected accelerations of shape {shape}, got {accs.shape}")
     fl = np.array([setup.s0])
     _entry("points")(setup.addresses, setup.ints(hill=hill), fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
-                     setup.varying, setup.coef, setup.window, EG, EDG, EDDG, lam, Z, known, errors, mu_re, mu_im, ok)
+                     setup.varying, setup.coef, setup.window, EG, EDG, EDDG, lam, Z, known, accs, errors, mu_re, mu_im,
+                     ok)
     omega = lam / hb.subharmonic
     if not hill:
         return omega, errors, None
