@@ -6,28 +6,23 @@ by the caller); the work arrays are made once per branch (:func:`hill_workspace`
 :func:`rotorkit.periodic.compiled_points.point_data_kernel`; :func:`hill_branch` runs it alone (tests).
 
 Hill's multipliers along a branch
-    The full method (:func:`_hill_full`) is the Python one: all
-    eigenvalues of Hill's companion matrix (:func:`~rotorkit.periodic.eigen.eigenvalues`),
-    the centre of every eigenvector, the selection. Consecutive points of a
-    branch have close exponents, so the kernel follows the previous point's
-    ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse
-    iteration on the quadratic eigenproblem from the previous exponents,
-    extrapolated, and their eigenvectors; a conjugate by conjugation; a real
-    exponent followed in real arithmetic, the same values), a few solves of
-    size ``n (2H + 1)`` instead of a QR iteration of twice that size. It
-    keeps a followed set only where it is the full method's selection on the
-    evidence at hand: each exponent converged to an eigenvector close to its
-    predecessor's and is its family's most centred member (within
-    ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
-    one harmonic nearer the centre, their centres about one harmonic apart),
-    the ``2n`` are distinct families (or a double eigenvalue with independent
-    eigenvectors), and the number of multipliers outside the unit circle is
-    the previous point's (a stability change is always decided by the full
-    method). Otherwise, at the first point and at least every
-    ``ANCHOR_EVERY`` points, the full method runs; following resumes only
-    from a full solve whose selection is clear-cut (the other exponents, not
-    copies of the kept ones, at least ``RUNNER_CENTRE`` off centre).
-    tests/test_periodic_hill_tracking.py compares both at every point of
+    The full method (:func:`_hill_full`) is the Python one: all eigenvalues of Hill's companion matrix
+    (:func:`~rotorkit.periodic.eigen.eigenvalues`, per group of coupled harmonics:
+    :func:`~rotorkit.periodic.compiled_hill_matrix.harmonic_groups`), the centre of each eigenvector the
+    selection reaches (:func:`_select_lazy`; tests/test_periodic_hill_full.py compares it with every centre's),
+    the selection. Consecutive points of a branch have close exponents, so the kernel follows the previous
+    point's ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse iteration on the quadratic
+    eigenproblem from the previous exponents, extrapolated, and their eigenvectors; a conjugate by conjugation;
+    a real exponent followed in real arithmetic, the same values), a few solves of size ``n (2H + 1)`` instead
+    of a QR iteration of twice that size. It keeps a followed set only where it is the full method's selection
+    on the evidence at hand: each exponent converged to an eigenvector close to its predecessor's and is its
+    family's most centred member (within ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
+    one harmonic nearer the centre, their centres about one harmonic apart), the ``2n`` are distinct families
+    (or a double eigenvalue with independent eigenvectors), and the number of multipliers outside the unit
+    circle is the previous point's (a stability change is always decided by the full method). Otherwise, at
+    the first point and at least every ``ANCHOR_EVERY`` points, the full method runs; following resumes only
+    from a full solve whose selection is clear-cut (the other exponents, not copies of the kept ones, at least
+    ``RUNNER_CENTRE`` off centre). tests/test_periodic_hill_tracking.py compares both at every point of
     branches through folds.
 """
 
@@ -39,7 +34,7 @@ import numba
 import numpy as np
 
 from .compiled_aft import speed_frame
-from .compiled_hill_matrix import block_table, hill_matrix
+from .compiled_hill_matrix import block_table, group_eigenvalues, harmonic_groups, hill_matrix
 from .eigen import complex_lu, eigenpair_near, eigenvalues, lu_solve, null_vector_into, row_norms
 from .stability import STABILITY_TOL
 
@@ -160,31 +155,6 @@ def _null_vector(A21, A22, lam, Gr, ur, piv, G, x):
 
 
 @numba.njit(cache=False)
-def _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x):
-    """The centre (:func:`_centre_of`) of each Hill eigenvector into ``centre``, the eigenvectors' harmonic parts
-    into ``vectors`` (one row per eigenvalue): the null vector ``p`` of ``A21 + lam A22 - lam^2 I``, a
-    conjugate eigenvalue's the conjugate vector (centre: minus the partner's)."""
-    size = n * (2 * H + 1)
-    count = 2 * size
-    done = np.zeros(count, dtype=np.bool_)
-    for e in range(count):
-        if done[e]:
-            continue
-        _null_vector(A21, A22, complex(wr[e], wi[e]), Gr, ur, piv, G, x)
-        centre[e] = _centre_of(x, n, H)
-        vectors[e, :] = x
-        done[e] = True
-        if wi[e] != 0.0:  # the conjugate eigenvalue: the conjugate vector, harmonics mirrored
-            for f in range(count):
-                if not done[f] and wr[f] == wr[e] and wi[f] == -wi[e]:
-                    centre[f] = -centre[e]
-                    for r in range(size):
-                        vectors[f, r] = x[r].conjugate()
-                    done[f] = True
-                    break
-
-
-@numba.njit(cache=False)
 def _is_copy(a, b, omega, tol):
     """Whether ``(a - b) / (i w)`` is a nonzero integer to ``tol`` (the same Floquet multiplier)."""
     d = (a - b) / (1j * omega)
@@ -222,9 +192,10 @@ def _select(wr, wi, centre, n, omega):
 
 @numba.njit(cache=False)
 def _centre_at(A21, A22, wr, wi, e, n, H, vectors, centre, exact, Gr, ur, piv, G, x):
-    """:func:`_centres`' centre and eigenvector of eigenvalue ``e`` (and of its conjugates): the null vector of
-    the member with ``wi <= 0`` (the first of each pair the QR iteration stores, the one :func:`_centres`
-    solves for), the conjugate vector and minus the centre for ``wi > 0``: the same values, in any order."""
+    """The centre (:func:`_centre_of`) and eigenvector of eigenvalue ``e`` (and of its equals and conjugates)
+    into ``centre``, ``vectors`` (``exact`` set): the null vector of ``A21 + lam A22 - lam^2 I`` for the member
+    with ``wi <= 0`` (:func:`_null_vector`; the first of a pair as the QR iteration stores them), the conjugate
+    vector and minus the centre for ``wi > 0`` (its harmonics mirrored): the same values in any order."""
     size = n * (2 * H + 1)
     _null_vector(A21, A22, complex(wr[e], -abs(wi[e])), Gr, ur, piv, G, x)
     c = _centre_of(x, n, H)
@@ -253,8 +224,8 @@ def _offset(wr, wi, j, e, omega, tol):
 
 @numba.njit(cache=False)
 def _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G, x):
-    """:func:`_centres` and :func:`_select` (the same ``kept``, the kept eigenvectors and centres the same
-    values; ``runner`` the same below ``RUNNER_CENTRE``, else a bound from below, at least ``RUNNER_CENTRE``:
+    """The centre of every eigenvector (:func:`_centre_at`) and :func:`_select` (the same ``kept``, the kept
+    eigenvectors and centres the same values; ``runner`` the same below ``RUNNER_CENTRE``, else a bound from below, at least ``RUNNER_CENTRE``:
     all :func:`hill_step` asks), a null vector computed only for the eigenvalues the selection reaches.
 
     The selection walks the exponents in the order of ``|centre|`` and stops after the ``2n``-th family and
@@ -264,7 +235,7 @@ def _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G,
     ``|centre|``. An exponent of no known family is computed first, the middle one of its copies (the most
     centred if the copies are). Every prediction is checked where a centre is computed, and two predictions
     of one exponent against each other: one off by ``CENTRE_MARGIN / 2``, or a centre not finite, and every
-    centre is computed (:func:`_centres`, :func:`_select`). A copy (:func:`_is_copy`) of a kept exponent comes
+    centre is computed, then :func:`_select`. A copy (:func:`_is_copy`) of a kept exponent comes
     after it in the walk, which skips it: its centre is not needed either."""
     count = wr.shape[0]
     exact = np.zeros(count, dtype=np.bool_)
@@ -341,7 +312,9 @@ def _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G,
                     and _is_copy(complex(wr[e], wi[e]), complex(wr[best], wi[best]), omega, 1e-6)):
                 walked[e] = True
     if not trusted:
-        _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x)
+        for e in range(count):
+            if not exact[e]:
+                _centre_at(A21, A22, wr, wi, e, n, H, vectors, centre, exact, Gr, ur, piv, G, x)
         return _select(wr, wi, centre, n, omega)
     return kept[:nk], runner
 
@@ -362,19 +335,26 @@ def _multipliers(lam, period, mu_re, mu_im):
 @numba.njit(cache=False)
 def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, big, wr, wi, vectors, centre, Gr, ur, piv, G,
                x):
-    """Hill's exponents by the full method: all eigenvalues of the companion matrix (:func:`eigenvalues`),
+    """Hill's exponents by the full method: all eigenvalues of the companion matrix (:func:`eigenvalues`; per
+    group of coupled harmonics where there are several,
+    :func:`~rotorkit.periodic.compiled_hill_matrix.harmonic_groups`),
     the centre of every eigenvector the selection reaches, the selection (:func:`_select_lazy`). Into
     ``lam_kept`` (2n), their eigenvectors ``vec_kept`` (2n, size) and centres; returns ``(ok, runner)`` (False
     if the QR iteration fails or fewer than ``2n`` families; ``runner`` as :func:`_select_lazy`'s)."""
     size = n * (2 * H + 1)
-    big[:, :] = 0.0
-    for i in range(size):
-        big[i, size + i] = 1.0
-        for col in range(size):
-            big[size + i, col] = A21[i, col]
-            big[size + i, size + col] = A22[i, col]
-    if not eigenvalues(big, wr, wi):
-        return False, 0.0
+    group = np.empty(H + 1, dtype=np.int64)
+    if harmonic_groups(A21, A22, n, H, group) > 1:
+        if not group_eigenvalues(A21, A22, n, H, group, wr, wi):
+            return False, 0.0
+    else:
+        big[:, :] = 0.0
+        for i in range(size):
+            big[i, size + i] = 1.0
+            for col in range(size):
+                big[size + i, col] = A21[i, col]
+                big[size + i, size + col] = A22[i, col]
+        if not eigenvalues(big, wr, wi):
+            return False, 0.0
     kept, runner = _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G, x)
     for q in range(kept.shape[0]):
         i = kept[q]
