@@ -6,28 +6,23 @@ by the caller); the work arrays are made once per branch (:func:`hill_workspace`
 :func:`rotorkit.periodic.compiled_points.point_data_kernel`; :func:`hill_branch` runs it alone (tests).
 
 Hill's multipliers along a branch
-    The full method (:func:`_hill_full`) is the Python one: all
-    eigenvalues of Hill's companion matrix (:func:`~rotorkit.periodic.eigen.eigenvalues`),
-    the centre of every eigenvector, the selection. Consecutive points of a
-    branch have close exponents, so the kernel follows the previous point's
-    ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse
-    iteration on the quadratic eigenproblem from the previous exponents,
-    extrapolated, and their eigenvectors; a conjugate by conjugation; a real
-    exponent followed in real arithmetic, the same values), a few solves of
-    size ``n (2H + 1)`` instead of a QR iteration of twice that size. It
-    keeps a followed set only where it is the full method's selection on the
-    evidence at hand: each exponent converged to an eigenvector close to its
-    predecessor's and is its family's most centred member (within
-    ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
-    one harmonic nearer the centre, their centres about one harmonic apart),
-    the ``2n`` are distinct families (or a double eigenvalue with independent
-    eigenvectors), and the number of multipliers outside the unit circle is
-    the previous point's (a stability change is always decided by the full
-    method). Otherwise, at the first point and at least every
-    ``ANCHOR_EVERY`` points, the full method runs; following resumes only
-    from a full solve whose selection is clear-cut (the other exponents, not
-    copies of the kept ones, at least ``RUNNER_CENTRE`` off centre).
-    tests/test_periodic_hill_tracking.py compares both at every point of
+    The full method (:func:`_hill_full`) is the Python one: all eigenvalues of Hill's companion matrix
+    (:func:`~rotorkit.periodic.eigen.eigenvalues`, per group of coupled harmonics:
+    :func:`~rotorkit.periodic.compiled_hill_matrix.harmonic_groups`), the centre of each eigenvector the
+    selection reaches (:func:`_select_lazy`; tests/test_periodic_hill_full.py compares it with every centre's),
+    the selection. Consecutive points of a branch have close exponents, so the kernel follows the previous
+    point's ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse iteration on the quadratic
+    eigenproblem from the previous exponents, extrapolated, and their eigenvectors; a conjugate by conjugation;
+    a real exponent followed in real arithmetic, the same values), a few solves of size ``n (2H + 1)`` instead
+    of a QR iteration of twice that size. It keeps a followed set only where it is the full method's selection
+    on the evidence at hand: each exponent converged to an eigenvector close to its predecessor's and is its
+    family's most centred member (within ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
+    one harmonic nearer the centre, their centres about one harmonic apart), the ``2n`` are distinct families
+    (or a double eigenvalue with independent eigenvectors), and the number of multipliers outside the unit
+    circle is the previous point's (a stability change is always decided by the full method). Otherwise, at
+    the first point and at least every ``ANCHOR_EVERY`` points, the full method runs; following resumes only
+    from a full solve whose selection is clear-cut (the other exponents, not copies of the kept ones, at least
+    ``RUNNER_CENTRE`` off centre). tests/test_periodic_hill_tracking.py compares both at every point of
     branches through folds.
 """
 
@@ -39,12 +34,12 @@ import numba
 import numpy as np
 
 from .compiled_aft import speed_frame
-from .compiled_hill_matrix import block_table, hill_matrix
+from .compiled_hill_matrix import block_table, group_eigenvalues, harmonic_groups, hill_matrix
 from .eigen import complex_lu, eigenpair_near, eigenvalues, lu_solve, null_vector_into, row_norms
 from .stability import STABILITY_TOL
 
 __all__ = ["hill_workspace", "hill_step", "hill_branch", "ANCHOR_EVERY", "TRACK_CENTRE", "RUNNER_CENTRE",
-           "TRACK_OVERLAP", "COPY_SPREAD", "DOUBLE_OVERLAP"]
+           "TRACK_OVERLAP", "COPY_SPREAD", "DOUBLE_OVERLAP", "CENTRE_MARGIN"]
 
 #: a full solve of Hill's eigenproblem at least every ANCHOR_EVERY points of a branch
 ANCHOR_EVERY = 64
@@ -60,6 +55,9 @@ DOUBLE_OVERLAP = 0.5
 RUNNER_CENTRE = 0.7
 #: a followed eigenvector's overlap |<u, u_prev>| / (|u| |u_prev|) with its predecessor's at least
 TRACK_OVERLAP = 0.9
+#: the full method computes the centre of a copy lambda + i s w of an exponent of centre c (about c - s) only
+#: where |c - s| - CENTRE_MARGIN could come before the selection's end (:func:`_select_lazy`)
+CENTRE_MARGIN = 0.25
 
 
 @numba.njit(cache=False)
@@ -157,31 +155,6 @@ def _null_vector(A21, A22, lam, Gr, ur, piv, G, x):
 
 
 @numba.njit(cache=False)
-def _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x):
-    """The centre (:func:`_centre_of`) of each Hill eigenvector into ``centre``, the eigenvectors' harmonic parts
-    into ``vectors`` (one row per eigenvalue): the null vector ``p`` of ``A21 + lam A22 - lam^2 I``, a
-    conjugate eigenvalue's the conjugate vector (centre: minus the partner's)."""
-    size = n * (2 * H + 1)
-    count = 2 * size
-    done = np.zeros(count, dtype=np.bool_)
-    for e in range(count):
-        if done[e]:
-            continue
-        _null_vector(A21, A22, complex(wr[e], wi[e]), Gr, ur, piv, G, x)
-        centre[e] = _centre_of(x, n, H)
-        vectors[e, :] = x
-        done[e] = True
-        if wi[e] != 0.0:  # the conjugate eigenvalue: the conjugate vector, harmonics mirrored
-            for f in range(count):
-                if not done[f] and wr[f] == wr[e] and wi[f] == -wi[e]:
-                    centre[f] = -centre[e]
-                    for r in range(size):
-                        vectors[f, r] = x[r].conjugate()
-                    done[f] = True
-                    break
-
-
-@numba.njit(cache=False)
 def _is_copy(a, b, omega, tol):
     """Whether ``(a - b) / (i w)`` is a nonzero integer to ``tol`` (the same Floquet multiplier)."""
     d = (a - b) / (1j * omega)
@@ -218,6 +191,135 @@ def _select(wr, wi, centre, n, omega):
 
 
 @numba.njit(cache=False)
+def _centre_at(A21, A22, wr, wi, e, n, H, vectors, centre, exact, Gr, ur, piv, G, x):
+    """The centre (:func:`_centre_of`) and eigenvector of eigenvalue ``e`` (and of its equals and conjugates)
+    into ``centre``, ``vectors`` (``exact`` set): the null vector of ``A21 + lam A22 - lam^2 I`` for the member
+    with ``wi <= 0`` (:func:`_null_vector`; the first of a pair as the QR iteration stores them), the conjugate
+    vector and minus the centre for ``wi > 0`` (its harmonics mirrored): the same values in any order."""
+    size = n * (2 * H + 1)
+    _null_vector(A21, A22, complex(wr[e], -abs(wi[e])), Gr, ur, piv, G, x)
+    c = _centre_of(x, n, H)
+    for f in range(wr.shape[0]):
+        if f == e or (not exact[f] and wr[f] == wr[e] and abs(wi[f]) == abs(wi[e])):
+            exact[f] = True
+            if wi[f] > 0.0:
+                centre[f] = -c
+                for r in range(size):
+                    vectors[f, r] = x[r].conjugate()
+            else:
+                centre[f] = c
+                vectors[f, :] = x
+
+
+@numba.njit(cache=False)
+def _offset(wr, wi, j, e, omega, tol):
+    """``s`` if exponent ``j`` is ``e + i s w`` to ``tol`` (``s`` a nonzero integer; :func:`_is_copy` in real
+    arithmetic, to rounding), else 0."""
+    d = (wi[j] - wi[e]) / omega
+    s = math.floor(d + 0.5)
+    if abs(wr[j] - wr[e]) < tol * omega and abs(d - s) < tol:
+        return int(s)
+    return 0
+
+
+@numba.njit(cache=False)
+def _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G, x):
+    """The centre of every eigenvector (:func:`_centre_at`) and :func:`_select` (the same ``kept``, the kept
+    eigenvectors and centres the same values; ``runner`` the same below ``RUNNER_CENTRE``, else a bound from below, at least ``RUNNER_CENTRE``:
+    all :func:`hill_step` asks), a null vector computed only for the eigenvalues the selection reaches.
+
+    The selection walks the exponents in the order of ``|centre|`` and stops after the ``2n``-th family and
+    its runner. A copy ``lambda + i s w`` of an exponent whose centre ``c`` is known has the centre ``c - s``
+    (its eigenvector the shifted one; to 1e-10 on the bench's branch): until its centre is needed, a lower
+    bound ``|c - s| - CENTRE_MARGIN``; an exponent is walked only when no unknown one's bound reaches its
+    ``|centre|``. An exponent of no known family is computed first, the middle one of its copies (the most
+    centred if the copies are). Every prediction is checked where a centre is computed, and two predictions
+    of one exponent against each other: one off by ``CENTRE_MARGIN / 2``, or a centre not finite, and every
+    centre is computed, then :func:`_select`. A copy (:func:`_is_copy`) of a kept exponent comes
+    after it in the walk, which skips it: its centre is not needed either."""
+    count = wr.shape[0]
+    exact = np.zeros(count, dtype=np.bool_)
+    walked = np.zeros(count, dtype=np.bool_)
+    known = np.zeros(count, dtype=np.bool_)  # a predicted centre
+    guess = np.zeros(count)
+    kept = np.empty(2 * n, dtype=np.int64)
+    nk = 0
+    runner = np.inf
+    trusted = True
+    while trusted:
+        best, far = -1, np.inf  # the next of the walk among the known centres (ties: the lower index)
+        for e in range(count):
+            if exact[e] and not walked[e] and abs(centre[e]) < far:
+                best, far = e, abs(centre[e])
+        low, bound = -1, np.inf  # the unknown centre that could come first
+        for e in range(count):
+            if not exact[e] and not walked[e]:
+                b = abs(guess[e]) - CENTRE_MARGIN if known[e] else -1.0
+                if b < bound:
+                    low, bound = e, b
+        if nk == 2 * n and min(far, bound) >= RUNNER_CENTRE:  # the runner is at least that: clear-cut
+            runner = min(far, bound)
+            break
+        if low >= 0 and bound <= far:
+            if not known[low]:  # a new family: its middle member (copies s_lo ... s_hi of low)
+                lo = hi = 0
+                for j in range(count):
+                    if not exact[j] and not walked[j] and not known[j]:
+                        s = _offset(wr, wi, j, low, omega, 1e-6)
+                        lo, hi = min(lo, s), max(hi, s)
+                middle = (lo + hi) // 2
+                if middle != 0:
+                    for j in range(count):
+                        if not exact[j] and not walked[j] and not known[j] and \
+                                _offset(wr, wi, j, low, omega, 1e-6) == middle:
+                            low = j
+                            break
+            _centre_at(A21, A22, wr, wi, low, n, H, vectors, centre, exact, Gr, ur, piv, G, x)
+            for e in range(count):
+                if exact[e] and not walked[e] and not math.isfinite(centre[e]):
+                    trusted = False
+                if exact[e] and known[e] and abs(centre[e] - guess[e]) > CENTRE_MARGIN / 2:
+                    trusted = False
+                if not exact[e] or wr[e] != wr[low] or abs(wi[e]) != abs(wi[low]):
+                    continue
+                for j in range(count):  # the copies of the new exact ones
+                    s = 0 if exact[j] else _offset(wr, wi, j, e, omega, 1e-6)
+                    if s != 0:
+                        g = centre[e] - s
+                        if known[j] and abs(g - guess[j]) > CENTRE_MARGIN / 2:
+                            trusted = False
+                        guess[j] = g
+                        known[j] = True
+            continue
+        if best < 0:
+            break
+        walked[best] = True
+        copy = False
+        for q in range(nk):
+            j = kept[q]
+            if _is_copy(complex(wr[best], wi[best]), complex(wr[j], wi[j]), omega, 1e-6):
+                copy = True
+                break
+        if copy:
+            continue
+        if nk == 2 * n:
+            runner = far
+            break
+        kept[nk] = best
+        nk += 1
+        for e in range(count):  # its copies come later in the walk, and it skips them: no centre needed
+            if (not walked[e] and _offset(wr, wi, e, best, omega, 1e-4) != 0
+                    and _is_copy(complex(wr[e], wi[e]), complex(wr[best], wi[best]), omega, 1e-6)):
+                walked[e] = True
+    if not trusted:
+        for e in range(count):
+            if not exact[e]:
+                _centre_at(A21, A22, wr, wi, e, n, H, vectors, centre, exact, Gr, ur, piv, G, x)
+        return _select(wr, wi, centre, n, omega)
+    return kept[:nk], runner
+
+
+@numba.njit(cache=False)
 def _multipliers(lam, period, mu_re, mu_im):
     """``exp(lam T)`` into ``mu_re + i mu_im``; the number outside the unit circle (``|mu| > 1 + tol``)."""
     unstable = 0
@@ -233,21 +335,27 @@ def _multipliers(lam, period, mu_re, mu_im):
 @numba.njit(cache=False)
 def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, big, wr, wi, vectors, centre, Gr, ur, piv, G,
                x):
-    """Hill's exponents by the full method: all eigenvalues of the companion matrix (:func:`eigenvalues`),
-    the centre of every eigenvector, the selection. Into ``lam_kept`` (2n), their eigenvectors ``vec_kept``
-    (2n, size) and centres; returns ``(ok, runner)`` (False if the QR iteration fails or fewer than ``2n``
-    families; ``runner`` as :func:`_select`'s)."""
+    """Hill's exponents by the full method: all eigenvalues of the companion matrix (:func:`eigenvalues`; per
+    group of coupled harmonics where there are several,
+    :func:`~rotorkit.periodic.compiled_hill_matrix.harmonic_groups`),
+    the centre of every eigenvector the selection reaches, the selection (:func:`_select_lazy`). Into
+    ``lam_kept`` (2n), their eigenvectors ``vec_kept`` (2n, size) and centres; returns ``(ok, runner)`` (False
+    if the QR iteration fails or fewer than ``2n`` families; ``runner`` as :func:`_select_lazy`'s)."""
     size = n * (2 * H + 1)
-    big[:, :] = 0.0
-    for i in range(size):
-        big[i, size + i] = 1.0
-        for col in range(size):
-            big[size + i, col] = A21[i, col]
-            big[size + i, size + col] = A22[i, col]
-    if not eigenvalues(big, wr, wi):
-        return False, 0.0
-    _centres(A21, A22, wr, wi, n, H, vectors, centre, Gr, ur, piv, G, x)
-    kept, runner = _select(wr, wi, centre, n, omega)
+    group = np.empty(H + 1, dtype=np.int64)
+    if harmonic_groups(A21, A22, n, H, group) > 1:
+        if not group_eigenvalues(A21, A22, n, H, group, wr, wi):
+            return False, 0.0
+    else:
+        big[:, :] = 0.0
+        for i in range(size):
+            big[i, size + i] = 1.0
+            for col in range(size):
+                big[size + i, col] = A21[i, col]
+                big[size + i, size + col] = A22[i, col]
+        if not eigenvalues(big, wr, wi):
+            return False, 0.0
+    kept, runner = _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G, x)
     for q in range(kept.shape[0]):
         i = kept[q]
         lam_kept[q] = complex(wr[i], wi[i])

@@ -14,8 +14,9 @@ import numba
 import numpy as np
 
 from .compiled_aft import aft_states
+from .eigen import eigenvalues
 
-__all__ = ["block_table", "hill_matrix"]
+__all__ = ["block_table", "hill_matrix", "harmonic_groups", "group_eigenvalues"]
 
 
 @numba.njit(cache=False)
@@ -146,3 +147,73 @@ def hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, used
             Q[sb + i, sb + i] += wk * wk
             V[ca + i, sb + i] -= 2.0 * wk
             V[sb + i, ca + i] += 2.0 * wk
+
+
+@numba.njit(cache=False)
+def harmonic_groups(A21, A22, n, H, group):
+    """The harmonics Hill's matrix couples, in groups: ``group[k]`` (``k = 0 ... H``) the lowest harmonic of
+    ``k``'s group (harmonic ``k``'s rows and columns: ``n`` for ``k = 0``, the ``2n`` of ``a_k``, ``b_k``
+    otherwise); two harmonics are coupled where an entry of ``A21`` or ``A22`` (of :func:`hill_matrix`) joining
+    them exceeds the rounding of the matrix, ``eps`` times its largest absolute row sum (a perturbation below
+    the QR iteration's own backward error). One group per harmonic for a time-invariant Jacobian along the
+    orbit (e.g. out of contact); even and odd harmonics apart for a Jacobian of harmonics 0 and 2 only (a
+    circular orbit of an isotropic rotor). Returns the number of groups."""
+    size = A21.shape[0]
+    norm = 0.0
+    for i in range(size):
+        row = 0.0
+        for c in range(size):
+            row += abs(A21[i, c]) + abs(A22[i, c])
+        norm = max(norm, row)
+    tol = 2.220446049250313e-16 * norm
+    for k in range(H + 1):
+        group[k] = k
+    for i in range(size):
+        a = (i // n + 1) // 2
+        for c in range(size):
+            b = (c // n + 1) // 2
+            if a != b and (abs(A21[i, c]) > tol or abs(A22[i, c]) > tol):
+                ga, gb = group[a], group[b]
+                if ga != gb:  # merge: every member of the higher group joins the lower
+                    lo, hi = min(ga, gb), max(ga, gb)
+                    for k in range(H + 1):
+                        if group[k] == hi:
+                            group[k] = lo
+    count = 0
+    for k in range(H + 1):
+        if group[k] == k:
+            count += 1
+    return count
+
+
+@numba.njit(cache=False)
+def group_eigenvalues(A21, A22, n, H, group, wr, wi):
+    """The eigenvalues ``wr + i wi`` of Hill's companion matrix ``[[0, I], [A21, A22]]`` group by group of
+    :func:`harmonic_groups` (the entries joining two groups taken as zero): those of each group's companion
+    matrix (twice its harmonics' rows; :func:`~rotorkit.periodic.eigen.eigenvalues`, a complex pair stored as
+    there), in the order of the groups' lowest harmonics. False if one does not converge."""
+    size = A21.shape[0]
+    rows = np.empty(size, dtype=np.int64)
+    at = 0
+    for g in range(H + 1):
+        if group[g] != g:
+            continue
+        m = 0
+        for i in range(size):
+            if group[(i // n + 1) // 2] == g:
+                rows[m] = i
+                m += 1
+        big = np.zeros((2 * m, 2 * m))
+        re = np.empty(2 * m)
+        im = np.empty(2 * m)
+        for i in range(m):
+            big[i, m + i] = 1.0
+            for c in range(m):
+                big[m + i, c] = A21[rows[i], rows[c]]
+                big[m + i, m + c] = A22[rows[i], rows[c]]
+        if not eigenvalues(big, re, im):
+            return False
+        wr[at:at + 2 * m] = re
+        wi[at:at + 2 * m] = im
+        at += 2 * m
+    return True
