@@ -119,6 +119,7 @@ class _Timed:
         self.function = function = getattr(self.module, self.name)
 
         def timed(*args, **kwargs):
+            self.last = args, kwargs  # the last call's arguments
             t0 = time.perf_counter()
             try:
                 return function(*args, **kwargs)
@@ -147,13 +148,14 @@ def section_a(repeat, runs, steps=(BRANCH_STEPS["step"], BRANCH_STEPS["max_step"
     # (it switches between two about 1.5x apart, for seconds at a time) touch both alike; the median of the
     # repetitions' ratios is the result
     speeds = np.linspace(*SPEEDS, runs)
-    hb_times, bare_times, time_times, branch, parts = [], [], [], None, []
+    hb_times, bare_times, time_times, branch, parts, data_call = [], [], [], None, [], None
     for _ in range(repeat):
         with _Timed(fastpath, "continue_compiled") as loop, _Timed(fastpath, "point_data") as data:
             t0 = time.perf_counter()
             branch = periodic_response(system, speeds=SPEEDS, harmonics=3, step=steps[0], max_step=steps[1])
             hb_times.append(time.perf_counter() - t0)
         parts.append((loop.total, data.total))
+        data_call = data.last
         t0 = time.perf_counter()
         periodic_response(system, speeds=SPEEDS, harmonics=3, step=steps[0], max_step=steps[1], stability="none")
         bare_times.append(time.perf_counter() - t0)
@@ -174,9 +176,10 @@ def section_a(repeat, runs, steps=(BRANCH_STEPS["step"], BRANCH_STEPS["max_step"
     problem = _problem(system)
     compiled = "compiled" if fastpath.compiled_setup(problem) is not None else "Python (numba missing?)"
     errors_only = []
+    args, kwargs = data_call  # the branch's own call: its points, and the continuation's scales and accelerations
     for _ in range(repeat):
         t0 = time.perf_counter()
-        fastpath.point_data(problem, branch.parameter, branch.coefficients, "none", 4)
+        fastpath.point_data(*args[:3], "none", *args[4:], **kwargs)
         errors_only.append(time.perf_counter() - t0)
     alone = statistics.median(errors_only)
     print(f"    per point ({compiled} path): continuation {1e3 * loop / n:.3f} ms, error estimate + Hill "

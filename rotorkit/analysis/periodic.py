@@ -499,9 +499,9 @@ def _branch(problem, points, stability):
     else:
         Z = raw.reshape(len(lam), 2 * H + 1, n)
     omega, errors, multipliers = [], [], []
-    amplitudes = np.hypot(Z[:, 1::2], Z[:, 2::2])  # (points, H, n)
-    top = np.max(amplitudes, axis=(1, 2), initial=0.0)
-    shares = np.where(top > 0, np.max(amplitudes[:, -1], axis=1, initial=0.0) / np.where(top > 0, top, 1.0), 0.0)
+    squares = Z[:, 1::2] ** 2 + Z[:, 2::2] ** 2  # (points, H, n): amplitudes squared (m^2: no overflow)
+    top = np.max(squares, axis=(1, 2), initial=0.0)
+    shares = np.sqrt(np.max(squares[:, -1], axis=1, initial=0.0) / np.where(top > 0, top, 1.0))
     given = len(points.scales) == len(lam)  # the continuation kernel's scales and accelerations
     compiled = None if full is not hb else point_data(
         problem, lam, Z, stability, ERROR_GRID_FACTOR, points.scales if given else None,
