@@ -249,150 +249,34 @@ def test_by_default_only_compiled_kernels_are_used(rub_system, both, monkeypatch
     assert fastpath._kernel.cache_info().currsize == len(fastpath.KINDS)
 
 
-def test_the_kernels_residual_scales_are_each_points_own_and_the_point_data_reuse_them(rub_system):
-    """The continuation kernel computes each new point's residual scale (the corrector's for the next step, the
-    Python reference's too); the per-point error estimates taken with them equal, to the bit, those that compute
-    the scale at each point's parameter afresh."""
+def kernel_points(hb, bounds, z_scale, max_points):
+    """``(problem, points)``: the raw continuation output of the compiled kernel over ``bounds`` in the speed."""
     from rotorkit.periodic.continuation import ContinuationOptions, continue_branch
 
-    problem = ContinuationProblem(HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3), "R_speed")
-    assert fastpath.compiled_setup(problem) is not None
-    z0 = problem.solve(np.zeros(problem.hb.size), 60.0, tol=1e-10, max_iterations=50)
-    points = continue_branch(problem, z0, 60.0, (60.0, 200.0), z_scale=DELTA,
-                             options=ContinuationOptions(max_points=80))
-    lam = np.asarray(points.parameter)
-    assert len(points.scales) == len(lam) == 80 and points.scales[0] == 0.0  # the start's: not computed
-    expected = [problem.frame(v).scale for v in lam[1:]]  # the Python reference's (hb.Frame)
-    assert np.allclose(points.scales[1:], expected, rtol=1e-13, atol=0)
-    assert np.ptp(points.scales[1:]) > 0.5 * np.max(points.scales)  # they change along the branch (m e W^2)
-    Z = np.reshape(points.coefficients, (len(lam), -1))
-    reused = fastpath.point_data(problem, lam, Z, "none", 4, points.scales)
-    fresh = fastpath.point_data(problem, lam, Z, "none", 4)
-    assert np.array_equal(reused[1], fresh[1]) and np.all(fresh[1] > 0)
-    wrong = fastpath.point_data(problem, lam, Z, "none", 4, 2.0 * np.asarray(points.scales))
-    assert np.allclose(wrong[1][1:], fresh[1][1:] / 2.0, rtol=1e-12)  # the given scales are the ones used
-
-
-def anisotropic_rub_system(eccentricity, damping, contact_stiffness):
-    """Anisotropic bearing, gravity and a rub stator: orbits with many harmonics (contact over part of a period)."""
-    from rotorkit import Maneuver
-    from rotorkit.elements import LinearBearing
-
-    return Model([Rotor(name="R", stations=(1,), speed=600.0),
-                  Disk(station=1, mass=M, radius=0.1, eccentricity=eccentricity, torsion=False),
-                  LinearBearing(station=1, kxx=1.2e6, kyy=1.0e6, cxx=damping, cyy=damping),
-                  RubStator(station=1, clearance=1e-4, contact_stiffness=contact_stiffness, friction_coefficient=0.1),
-                  Maneuver.steady(gravity=9.81)], name="anisorub").compile(backend="c")
-
-
-def test_compiled_partial_rub_branch_and_error_estimates_equal_the_python_path(monkeypatch):
-    system = anisotropic_rub_system(2e-5, 150.0, 1e6)
-    compiled = periodic_response(system, speeds=(600.0, 700.0), harmonics=6)
-    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
-    reference = periodic_response(system, speeds=(600.0, 700.0), harmonics=6)
-    assert len(compiled) == len(reference) and compiled.reason == reference.reason
-    amplitude = float(np.max(np.abs(reference.coefficients)))
-    assert np.max(np.abs(compiled.coefficients - reference.coefficients)) < 1e-8 * amplitude
-    assert np.max(compiled.harmonic_share) > 1e-4  # many harmonics: the error estimates are not rounding
-    # equal where the truncation error is real; near rounding (no contact yet) both are tiny
-    assert np.allclose(compiled.residual_error, reference.residual_error, rtol=1e-6, atol=1e-9)
-    assert np.max(reference.residual_error) > 1e-2
-    assert np.array_equal(compiled.stable, reference.stable)
-    for mu, expected in zip(compiled.multipliers, reference.multipliers):
-        assert np.max(np.min(np.abs(mu[:, None] - expected[None, :]), axis=1)) < 1e-8
-
-
-def test_compiled_hill_keeps_one_exponent_per_family_for_real_negative_multipliers():
-    """Full annular rub offset by gravity past the critical speed: two real negative multipliers (exponents
-    a +- i w/2, copies of each other); the compiled Hill selection must match the Python one."""
-    from rotorkit.periodic.stability import hill_multipliers
-
-    system = anisotropic_rub_system(3e-5, 30.0, 1e7).with_parameters(rub1_friction_coefficient=0.0)
-    # steps short enough to follow this solution (longer ones may pass to another that coexists at 740 rad/s)
-    rough = periodic_response(system, speeds=(600.0, 740.0), harmonics=4, stability="none", step=0.01, max_step=0.02)
-    start = np.vstack([rough.coefficients[-1], np.zeros((12, 2))])
-    from rotorkit.analysis.periodic import periodic_solution
-
-    b = periodic_solution(system, harmonics=10, start=start, R_speed=740.0, stability="hill")
-    hb = HarmonicBalance(system.with_parameters(R_speed=740.0), speed_parameter="R_speed", harmonics=10)
-    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is not None
-    expected = hill_multipliers(hb, b.coefficients[0].ravel(), hb.frame())
-    negative = expected[(np.abs(expected.imag) < 1e-9) & (expected.real < 0)]
-    assert len(negative) == 2
-    mu = b.multipliers[0]
-    assert np.max(np.min(np.abs(mu[:, None] - expected[None, :]), axis=1)) < 1e-8
-    assert np.max(np.min(np.abs(expected[:, None] - mu[None, :]), axis=1)) < 1e-8
-
-
-def test_by_default_only_compiled_kernels_are_used(rub_system, both, monkeypatch):
-    """Without $ROTORKIT_PERIODIC_COMPILED a first branch does not wait for the kernels' compilation: the compiled
-    path is taken only once they are in the disk cache (compile_kernels), found there by a fresh process."""
-    monkeypatch.delenv("ROTORKIT_PERIODIC_COMPILED")
-    hb = HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3)
-    monkeypatch.setattr(fastpath, "kernels_compiled", lambda: False)
-    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is None
-    monkeypatch.undo()
-    monkeypatch.delenv("ROTORKIT_PERIODIC_COMPILED")
-    fastpath._kernel.cache_clear()  # as a fresh process: only the disk cache (filled by the branches above)
-    assert fastpath.kernels_compiled()
-    assert fastpath.compiled_setup(ContinuationProblem(hb, "R_speed")) is not None
-    fastpath.compile_kernels(verbose=False)  # loads them from the disk cache
-    assert fastpath._kernel.cache_info().currsize == len(fastpath.KINDS)
-
-
-def test_the_kernels_residual_scales_are_each_points_own_and_the_point_data_reuse_them(rub_system):
-    """The continuation kernel computes each new point's residual scale (the corrector's for the next step, the
-    Python reference's too); the per-point error estimates taken with them equal, to the bit, those that compute
-    the scale at each point's parameter afresh."""
-    from rotorkit.periodic.continuation import ContinuationOptions, continue_branch
-
-    problem = ContinuationProblem(HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3), "R_speed")
-    assert fastpath.compiled_setup(problem) is not None
-    z0 = problem.solve(np.zeros(problem.hb.size), 60.0, tol=1e-10, max_iterations=50)
-    points = continue_branch(problem, z0, 60.0, (60.0, 200.0), z_scale=DELTA,
-                             options=ContinuationOptions(max_points=80))
-    lam = np.asarray(points.parameter)
-    assert len(points.scales) == len(lam) == 80 and points.scales[0] == 0.0  # the start's: not computed
-    expected = [problem.frame(v).scale for v in lam[1:]]  # the Python reference's (hb.Frame)
-    assert np.allclose(points.scales[1:], expected, rtol=1e-13, atol=0)
-    assert np.ptp(points.scales[1:]) > 0.5 * np.max(points.scales)  # they change along the branch (m e W^2)
-    Z = np.reshape(points.coefficients, (len(lam), -1))
-    reused = fastpath.point_data(problem, lam, Z, "none", 4, points.scales)
-    fresh = fastpath.point_data(problem, lam, Z, "none", 4)
-    assert np.array_equal(reused[1], fresh[1]) and np.all(fresh[1] > 0)
-    wrong = fastpath.point_data(problem, lam, Z, "none", 4, 2.0 * np.asarray(points.scales))
-    assert np.allclose(wrong[1][1:], fresh[1][1:] / 2.0, rtol=1e-12)  # the given scales are the ones used
-
-
-def test_the_kernels_accelerations_are_each_points_own_and_the_error_estimates_reuse_them(rub_system):
-    """The continuation kernel keeps each new point's accelerations at its AFT samples (its last residual's):
-    they equal the model's at the point's sampled states, and the error estimates taken with them (the
-    estimate's grid holds the AFT samples) equal those that evaluate the model there afresh, to rounding."""
-    from rotorkit.periodic.continuation import ContinuationOptions, continue_branch
-
-    hb = HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3)
     problem = ContinuationProblem(hb, "R_speed")
-    z0 = problem.solve(np.zeros(hb.size), 60.0, tol=1e-10, max_iterations=50)
-    points = continue_branch(problem, z0, 60.0, (60.0, 200.0), z_scale=DELTA,
-                             options=ContinuationOptions(max_points=120))
+    assert fastpath.compiled_setup(problem) is not None
+    z0 = problem.solve(np.zeros(hb.size), bounds[0], tol=1e-10, max_iterations=50)
+    return problem, continue_branch(problem, z0, bounds[0], bounds, z_scale=z_scale,
+                                    options=ContinuationOptions(max_points=max_points))
+
+
+def test_the_kernels_residual_scales_are_each_points_own_and_the_point_data_reuse_them(rub_system):
+    """The continuation kernel computes each new point's residual scale (the corrector's for the next step, the
+    Python reference's too); the per-point error estimates taken with them equal, to the bit, those that compute
+    the scale at each point's parameter afresh."""
+    problem, points = kernel_points(HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3),
+                                    (60.0, 200.0), DELTA, 80)
     lam = np.asarray(points.parameter)
-    accelerations = np.asarray(points.accelerations)
-    assert accelerations.shape == (len(lam), hb.samples, hb.n) and np.isnan(accelerations[0, 0, 0])
-    known = ~np.isnan(accelerations[:, 0, 0])
-    assert known[1:].all()  # every new point's last residual was at the point
-    for i in np.flatnonzero(known)[::7]:
-        frame = problem.frame(lam[i])
-        expected = frame.accelerations(hb.states(points.coefficients[i], frame))[:, hb.n:]
-        assert np.allclose(accelerations[i], expected, rtol=1e-12, atol=1e-12 * np.max(np.abs(expected)))
+    assert len(points.scales) == len(lam) == 80 and points.scales[0] == 0.0  # the start's: not computed
+    expected = [problem.frame(v).scale for v in lam[1:]]  # the Python reference's (hb.Frame)
+    assert np.allclose(points.scales[1:], expected, rtol=1e-13, atol=0)
+    assert np.ptp(points.scales[1:]) > 0.5 * np.max(points.scales)  # they change along the branch (m e W^2)
     Z = np.reshape(points.coefficients, (len(lam), -1))
-    fresh = fastpath.point_data(problem, lam, Z, "none", 4, points.scales)[1]
-    reused = fastpath.point_data(problem, lam, Z, "none", 4, points.scales, accelerations)[1]
-    # equal to rounding: where the estimate is itself at rounding level (1e-16 to 1e-11 in the linear range) its
-    # digits are those of rounding
-    assert np.allclose(reused, fresh, rtol=1e-6, atol=1e-12) and np.all(fresh > 0) and np.max(fresh) > 1e-6
-    moved = accelerations.copy()
-    moved[:, 0, 0] += 1.0  # 1 m/s^2 at the first AFT sample: the estimate there must see it
-    assert np.all(fastpath.point_data(problem, lam, Z, "none", 4, points.scales, moved)[1][1:] > reused[1:])
+    reused = fastpath.point_data(problem, lam, Z, "none", 4, points.scales)
+    fresh = fastpath.point_data(problem, lam, Z, "none", 4)
+    assert np.array_equal(reused[1], fresh[1]) and np.all(fresh[1] > 0)
+    wrong = fastpath.point_data(problem, lam, Z, "none", 4, 2.0 * np.asarray(points.scales))
+    assert np.allclose(wrong[1][1:], fresh[1][1:] / 2.0, rtol=1e-12)  # the given scales are the ones used
 
 
 def test_the_kernels_accelerations_are_each_points_own_and_the_error_estimates_reuse_them():
@@ -400,14 +284,8 @@ def test_the_kernels_accelerations_are_each_points_own_and_the_error_estimates_r
     they equal the model's at the point's sampled states, and the error estimates taken with them (the
     estimate's grid holds the AFT samples) equal those that evaluate the model there afresh, to rounding; on a
     partial rub, whose estimates are truncation errors, not rounding."""
-    from rotorkit.periodic.continuation import ContinuationOptions, continue_branch
-
     hb = HarmonicBalance(anisotropic_rub_system(2e-5, 150.0, 1e6), speed_parameter="R_speed", harmonics=6)
-    problem = ContinuationProblem(hb, "R_speed")
-    assert fastpath.compiled_setup(problem) is not None
-    z0 = problem.solve(np.zeros(hb.size), 600.0, tol=1e-10, max_iterations=50)
-    points = continue_branch(problem, z0, 600.0, (600.0, 700.0), z_scale=1e-4,
-                             options=ContinuationOptions(max_points=40))
+    problem, points = kernel_points(hb, (600.0, 700.0), 1e-4, 40)
     lam = np.asarray(points.parameter)
     accelerations = np.asarray(points.accelerations)
     assert accelerations.shape == (len(lam), hb.samples, hb.n) and np.isnan(accelerations[0, 0, 0])
