@@ -226,3 +226,95 @@ def test_a_coupling_above_rounding_joins_harmonics(kernels):
         count, group = full(B, A22, n, H, omega)[2:4]
         assert count == groups
         assert (group[1] == 0) == (factor > 1.0)
+
+
+@pytest.fixture(scope="module")
+def follow():
+    from rotorkit.periodic.compiled_hill_matrix import follow_exponent, group_of, group_workspace, harmonic_groups
+    from rotorkit.periodic.eigen import row_norms
+
+    @numba.njit
+    def run(A21, A22, n, H, sigma, u, grouped):
+        """follow_exponent from (sigma, u) with the groups of harmonic_groups (grouped) or as one group (the
+        whole matrix): (lam, converged, eigenvector, number of groups, group of u, groups)."""
+        size = A21.shape[0]
+        group, rows, f21, f22, fGr, fG, v = group_workspace(n, H)
+        count = harmonic_groups(A21, A22, n, H, group)
+        groups = count if grouped else 1
+        g = group_of(u, n, group)
+        n0, n1 = row_norms(A22, A21)
+        Gr, ur, wr, br, invr = np.empty((size, size)), np.empty(size), np.empty(size), np.empty(size), np.empty(size)
+        piv = np.empty(size, dtype=np.int64)
+        G = np.empty((size, size), dtype=np.complex128)
+        w, b, inv = (np.empty(size, dtype=np.complex128), np.empty(size, dtype=np.complex128),
+                     np.empty(size, dtype=np.complex128))
+        x = u.copy()
+        lam, ok = follow_exponent(A21, A22, n, groups, group, rows, f21, f22, fGr, fG, v, n0, n1, sigma, x, Gr, ur,
+                                  wr, br, invr, piv, G, w, b, inv)
+        return lam, ok, x, count, g, group
+
+    return run
+
+
+@pytest.mark.slow  # compiles the follow (~20 s on a loaded machine)
+@pytest.mark.parametrize("name", ["even", "overdamped", "gyroscopic", "isotropic", "identity"])
+def test_a_follow_within_one_group_of_harmonics_is_the_whole_matrix_one(name, follow):
+    """An exponent followed on the rows of its group of coupled harmonics only (harmonic_groups: even and odd
+    harmonics apart for a stiffness varying at 2 w, each harmonic alone for a time-invariant system) must be
+    the one followed on the whole matrix to 1e-12, and numpy's eigenvalue; its eigenvector zero outside the
+    group; so from the exponent itself. A real exponent (overdamped) from a real shift and start vector stays
+    real. A start vector across groups: the whole matrix's follow, bit for bit."""
+    # "identity": exponents -1 +- 2i + i k w, exact in floating point, at which the group's block of
+    # A21 + lam A22 - lam^2 I is zero to the last bit (the whole matrix is not)
+    exact = dict(identity=(lambda t: 5.0 * np.eye(2), lambda t: 2.0 * np.eye(2), 3.0))
+    stiffness, damping, omega = {**cases(), **exact}[name]
+    n = stiffness(0.0).shape[0]
+    A21, A22 = hill_blocks(stiffness, damping, omega)
+    size = A21.shape[0]
+    big = np.block([[np.zeros((size, size)), np.eye(size)], [A21, A22]])
+    values, vectors = np.linalg.eig(big)
+    if name in exact:
+        values = np.round(values, 9)
+    harmonic = (np.arange(size) // n + 1) // 2
+    rng = np.random.default_rng(5)
+    checked = real = 0
+    order = np.argsort(np.abs(values))
+    for e in [e for i, e in enumerate(order) if i % 3 == 0 or values[e].imag == 0.0]:
+        lam0 = values[e]
+        u = vectors[:size, e] / np.max(np.abs(vectors[:size, e]))
+        count, g, group = follow(A21, A22, n, H, complex(lam0), u.astype(complex), True)[3:]
+        assert count > 1
+        if g < 0:
+            continue
+        outside = group[harmonic] != g
+        assert outside.any()
+        start = u + 0.01 * rng.standard_normal(size) * (np.abs(u) > 1e-12)
+        if lam0.imag == 0.0:
+            start = start.real
+            sigma = complex(lam0.real * (1.0 + 1e-3))
+        else:
+            sigma = lam0 * (1.0 + 1e-3 * (1 + 1j))
+        got = follow(A21, A22, n, H, sigma, start.astype(complex), True)
+        whole = follow(A21, A22, n, H, sigma, start.astype(complex), False)
+        assert got[1] and whole[1]
+        assert abs(got[0] - whole[0]) <= 1e-12 * abs(whole[0])
+        assert abs(got[0] - lam0) <= 1e-9 * abs(lam0)
+        assert np.all(got[2][outside] == 0.0) and got[4] == g
+        assert np.max(np.abs(np.abs(np.vdot(got[2], whole[2])) - np.linalg.norm(got[2]) * np.linalg.norm(
+            whole[2]))) < 1e-9 * np.linalg.norm(whole[2]) ** 2
+        # from the exponent itself: the group's block singular to rounding (a multiple of the identity for the
+        # isotropic rotor), the whole matrix not
+        at = follow(A21, A22, n, H, complex(lam0), u.astype(complex), True)
+        assert at[1] and abs(at[0] - lam0) <= 1e-12 * abs(lam0)
+        if lam0.imag == 0.0:
+            assert got[0].imag == 0.0 and np.all(got[2].imag == 0.0)
+            real += 1
+        checked += 1
+    assert checked >= 4
+    if name == "overdamped":
+        assert real >= 2
+    # a start vector across groups (harmonics 0 and 1, apart in every case): the whole matrix's follow
+    spread = np.where(harmonic <= 1, 1.0 + np.arange(size), 0.0).astype(complex)
+    sigma = complex(values[np.argmin(np.abs(values))])
+    got, whole = follow(A21, A22, n, H, sigma, spread, True), follow(A21, A22, n, H, sigma, spread, False)
+    assert got[4] == -1 and np.array_equal([got[0], *got[2]], [whole[0], *whole[2]], equal_nan=True)

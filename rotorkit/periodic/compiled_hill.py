@@ -34,8 +34,9 @@ import numba
 import numpy as np
 
 from .compiled_aft import speed_frame
-from .compiled_hill_matrix import block_table, group_eigenvalues, harmonic_groups, hill_matrix
-from .eigen import complex_lu, eigenpair_near, eigenvalues, lu_solve, null_vector_into, row_norms
+from .compiled_hill_matrix import (block_table, follow_exponent, group_eigenvalues, group_workspace, harmonic_groups,
+                                   hill_matrix)
+from .eigen import complex_lu, eigenvalues, lu_solve, null_vector_into, row_norms
 from .stability import STABILITY_TOL
 
 __all__ = ["hill_workspace", "hill_step", "hill_branch", "ANCHOR_EVERY", "TRACK_CENTRE", "RUNNER_CENTRE",
@@ -65,7 +66,8 @@ def hill_workspace(n, H):
     """The work arrays of Hill's multipliers along a branch (n coordinates, H harmonics), made once:
     ``(y, Aj, f, F, cs, used, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors,
     centres, lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest, kk,
-    cc)`` (``kk``, ``cc``: :func:`~rotorkit.periodic.compiled_hill_matrix.block_table`);
+    cc, groups)`` (``kk``, ``cc``: :func:`~rotorkit.periodic.compiled_hill_matrix.block_table`; ``groups``: the
+    :func:`~rotorkit.periodic.compiled_hill_matrix.group_workspace`);
     ``lam_state``, ``vec_state``, ``lam_older``, ``info``, ``lam_oldest``: the state carried from point to point
     (:func:`hill_step`), ``info`` zeroed (no previous point)."""
     H2 = 2 * H + 1
@@ -83,7 +85,8 @@ def hill_workspace(n, H):
             np.empty(2 * size),
             np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n), np.empty(2 * n, dtype=c16),
             np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n, dtype=c16),
-            np.zeros(5, dtype=np.int64), np.empty(size), np.empty(size, dtype=c16), np.empty(2 * n, dtype=c16), kk, cc)
+            np.zeros(5, dtype=np.int64), np.empty(size), np.empty(size, dtype=c16), np.empty(2 * n, dtype=c16), kk, cc,
+            group_workspace(n, H))
 
 
 @numba.njit(cache=False)
@@ -385,29 +388,12 @@ def _hill_full(A21, A22, n, H, omega, lam_kept, vec_kept, centre_kept, big, wr, 
 
 
 @numba.njit(cache=False)
-def _follow(A21, A22, n0, n1, sigma, u, Gr, ur, wr, br, invr, piv, G, w, b, inv):
-    """:func:`~rotorkit.periodic.eigen.eigenpair_near` of Hill's quadratic problem from the shift ``sigma`` and
-    the start vector ``u`` (replaced by the eigenvector): ``(lam, converged)``; in real arithmetic where both
-    are real (the complex iteration's values)."""
-    real = sigma.imag == 0.0
-    for r in range(u.shape[0]):
-        real = real and u[r].imag == 0.0
-    if real:
-        for r in range(u.shape[0]):
-            ur[r] = u[r].real
-        lam, ok = eigenpair_near(A22, A21, n0, n1, sigma.real, ur, Gr, piv, wr, br, invr)
-        for r in range(u.shape[0]):
-            u[r] = ur[r]
-        return complex(lam, 0.0), ok
-    return eigenpair_near(A22, A21, n0, n1, sigma, u, G, piv, w, b, inv)
-
-
-@numba.njit(cache=False)
 def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, vec_kept, centre_kept, u, x, Gr, ur, wr,
-                  br, invr, piv, G, w, b, inv):
+                  br, invr, piv, G, w, b, inv, gws):
     """Hill's exponents followed from the previous point's (``lam_prev``, ``vec_prev``) by shifted inverse
-    iteration (:func:`_follow`) from the shifts ``sigma`` (predicted exponents), a conjugate pair's second
-    member by conjugation, into ``lam_kept``, ``vec_kept``, ``centre_kept``.
+    iteration (:func:`~rotorkit.periodic.compiled_hill_matrix.follow_exponent`: on one group of coupled
+    harmonics where the start vector lies in one, work arrays ``gws``) from the shifts ``sigma`` (predicted
+    exponents), a conjugate pair's second member by conjugation, into ``lam_kept``, ``vec_kept``, ``centre_kept``.
 
     False (then the full method runs instead) unless every exponent converged to an eigenvector close to its
     predecessor's (overlap ``TRACK_OVERLAP``) and is its family's most centred member (centred within
@@ -417,6 +403,8 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, ve
     size = n * (2 * H + 1)
     count = 2 * n
     n0, n1 = row_norms(A22, A21)
+    group, rows, f21, f22, fGr, fG, v = gws
+    groups = harmonic_groups(A21, A22, n, H, group)
     used = np.zeros(count, dtype=np.bool_)
     for q in range(count):
         partner = -1
@@ -434,7 +422,8 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, ve
             centre_kept[q] = -centre_kept[partner]
             continue
         u[:] = vec_prev[q]
-        lam, ok = _follow(A21, A22, n0, n1, sigma[q], u, Gr, ur, wr, br, invr, piv, G, w, b, inv)
+        lam, ok = follow_exponent(A21, A22, n, groups, group, rows, f21, f22, fGr, fG, v, n0, n1, sigma[q], u, Gr, ur,
+                                  wr, br, invr, piv, G, w, b, inv)
         if not ok:
             return False
         if _overlap(u, vec_prev[q]) < TRACK_OVERLAP:  # the eigenvector close to its predecessor's
@@ -447,7 +436,8 @@ def _hill_tracked(A21, A22, n, H, omega, lam_prev, vec_prev, sigma, lam_kept, ve
             # lie about one harmonic apart (further copies could compete)
             s = 1 if centre > 0.0 else -1
             _shifted(u, n, H, s, x)
-            other, ok = _follow(A21, A22, n0, n1, lam + s * 1j * omega, x, Gr, ur, wr, br, invr, piv, G, w, b, inv)
+            other, ok = follow_exponent(A21, A22, n, groups, group, rows, f21, f22, fGr, fG, v, n0, n1,
+                                        lam + s * 1j * omega, x, Gr, ur, wr, br, invr, piv, G, w, b, inv)
             if not ok or not _is_copy(other, lam, omega, 1e-6):
                 return False
             centre_other = _centre_of(x, n, H)
@@ -543,13 +533,13 @@ def hill_step(z, omega, p, A0, jac, ints, E, ED, mu_re, mu_im, track, ws):
     period = 2.0 * np.pi / omega
     # the work arrays unpacked once: a tuple passed to a function costs a reference count per member
     y, Aj, f, F, cs, used, A21, A22, Gr, ur, wr, br, piv, G, u, x, w, b, big, re, im, vectors, centres = ws[:23]
-    lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest, kk, cc = ws[23:]
+    lam_new, vec_new, centre, sigma, lam_state, vec_state, lam_older, info, invr, inv, lam_oldest, kk, cc = ws[23:36]
     hill_matrix(z, omega, period, p, A0, jac, ints, E, ED, y, Aj, f, F, cs, used, kk, cc, A21, A22)
     count = 2 * n
     if track and info[0] == 1 and info[1] < ANCHOR_EVERY - 1:
         _shifts(lam_state, lam_older, lam_oldest, info, sigma)
         if _hill_tracked(A21, A22, n, H, omega, lam_state, vec_state, sigma, lam_new, vec_new, centre, u, x, Gr, ur, wr,
-                         br, invr, piv, G, w, b, inv):
+                         br, invr, piv, G, w, b, inv, ws[36]):
             unstable = _multipliers(lam_new, period, mu_re, mu_im)
             if unstable == info[2]:
                 lam_oldest[:] = lam_older

@@ -14,9 +14,10 @@ import numba
 import numpy as np
 
 from .compiled_aft import aft_states
-from .eigen import eigenvalues
+from .eigen import eigenpair_near, eigenvalues
 
-__all__ = ["block_table", "hill_matrix", "harmonic_groups", "group_eigenvalues"]
+__all__ = ["block_table", "hill_matrix", "harmonic_groups", "group_eigenvalues", "group_workspace", "group_of",
+           "follow_exponent"]
 
 
 @numba.njit(cache=False)
@@ -217,3 +218,90 @@ def group_eigenvalues(A21, A22, n, H, group, wr, wi):
         wi[at:at + 2 * m] = im
         at += 2 * m
     return True
+
+
+@numba.njit(cache=False)
+def group_workspace(n, H):
+    """The work arrays of :func:`follow_exponent` (n coordinates, H harmonics), made once per branch:
+    ``(group, rows, f21, f22, fGr, fG, v)``, the flat ones (``size^2``) viewed as square per group."""
+    size = n * (2 * H + 1)
+    return (np.empty(H + 1, dtype=np.int64), np.empty(size, dtype=np.int64), np.empty(size * size),
+            np.empty(size * size), np.empty(size * size), np.empty(size * size, dtype=np.complex128),
+            np.empty(size, dtype=np.complex128))
+
+
+@numba.njit(cache=False)
+def group_of(u, n, group):
+    """The group (``group`` of :func:`harmonic_groups`) holding every entry of ``u`` above ``1e-12`` times its
+    largest (by modulus), -1 if they lie in several groups (or ``u`` is zero)."""
+    big = 0.0
+    for r in range(u.shape[0]):
+        big = max(big, u[r].real ** 2 + u[r].imag ** 2)
+    floor = 1e-24 * big
+    g = -1
+    for r in range(u.shape[0]):
+        if u[r].real ** 2 + u[r].imag ** 2 > floor:
+            k = group[(r // n + 1) // 2]
+            if g < 0:
+                g = k
+            elif k != g:
+                return -1
+    return g
+
+
+@numba.njit(cache=False)
+def _follow(A21, A22, n0, n1, sigma, u, Gr, ur, wr, br, invr, piv, G, w, b, inv, scale):
+    """:func:`~rotorkit.periodic.eigen.eigenpair_near` of Hill's quadratic problem from the shift ``sigma`` and
+    the start vector ``u`` (replaced by the eigenvector): ``(lam, converged)``; in real arithmetic where both
+    are real (the complex iteration's values); ``scale`` the pivots' floor (0: the matrix's own)."""
+    real = sigma.imag == 0.0
+    for r in range(u.shape[0]):
+        real = real and u[r].imag == 0.0
+    if real:
+        for r in range(u.shape[0]):
+            ur[r] = u[r].real
+        lam, ok = eigenpair_near(A22, A21, n0, n1, sigma.real, ur, Gr, piv, wr, br, invr, 3, 4, 1e-12, scale)
+        for r in range(u.shape[0]):
+            u[r] = ur[r]
+        return complex(lam, 0.0), ok
+    return eigenpair_near(A22, A21, n0, n1, sigma, u, G, piv, w, b, inv, 3, 4, 1e-12, scale)
+
+
+@numba.njit(cache=False)
+def follow_exponent(A21, A22, n, groups, group, rows, f21, f22, fGr, fG, v, n0, n1, sigma, u, Gr, ur, wr, br, invr,
+                    piv, G, w, b, inv):
+    """The eigenpair of Hill's quadratic problem ``A21 + lam A22 - lam^2 I`` nearest the shift ``sigma`` by
+    shifted inverse iteration from the start vector ``u`` (replaced by the eigenvector): ``(lam, converged)``
+    (:func:`~rotorkit.periodic.eigen.eigenpair_near`; in real arithmetic where ``sigma`` and ``u`` are real).
+
+    Where Hill's matrix splits into ``groups > 1`` groups of coupled harmonics (``group`` of
+    :func:`harmonic_groups`) and ``u`` lies in one of them (:func:`group_of`), the iteration runs on that
+    group's rows and columns only (copied into the work arrays ``rows``, ``f21``, ``f22``, ``fGr``, ``fG``,
+    ``v`` of :func:`group_workspace`), the stopping rule on the whole matrix's norms ``n0 = ||A21||``,
+    ``n1 = ||A22||``, the pivots' floor on their bound ``n0 + |sigma| n1 + |sigma|^2`` of the whole matrix's
+    entries (a group's block may be singular to the last bit where the whole matrix is not: out of contact a
+    multiple of the identity at the exponent), the eigenvector zero outside the group; else on the whole
+    matrix."""
+    g = group_of(u, n, group) if groups > 1 else -1
+    if g < 0:
+        return _follow(A21, A22, n0, n1, sigma, u, Gr, ur, wr, br, invr, piv, G, w, b, inv, 0.0)
+    m = 0
+    for i in range(u.shape[0]):
+        if group[(i // n + 1) // 2] == g:
+            rows[m] = i
+            m += 1
+    a21 = f21[:m * m].reshape(m, m)
+    a22 = f22[:m * m].reshape(m, m)
+    for i in range(m):
+        ri = rows[i]
+        for c in range(m):
+            a21[i, c] = A21[ri, rows[c]]
+            a22[i, c] = A22[ri, rows[c]]
+        v[i] = u[ri]
+    x = v[:m]
+    lam, ok = _follow(a21, a22, n0, n1, sigma, x, fGr[:m * m].reshape(m, m), ur[:m], wr[:m], br[:m], invr[:m],
+                      piv[:m], fG[:m * m].reshape(m, m), w[:m], b[:m], inv[:m], n0 + abs(sigma) * n1 + abs(sigma) ** 2)
+    u[:] = 0.0
+    for i in range(m):
+        u[rows[i]] = x[i]
+    return lam, ok

@@ -307,10 +307,11 @@ def complex_lu(G, piv):
 
 
 @numba.njit(cache=False)
-def floored_lu(G, piv, inv):
-    """:func:`complex_lu`, the reciprocals of the pivots into ``inv`` (for :func:`inverse_solve`)."""
+def floored_lu(G, piv, inv, scale=0.0):
+    """:func:`complex_lu`, the reciprocals of the pivots into ``inv`` (for :func:`inverse_solve`); the floor
+    ``1e-17`` times the larger of the largest entry and ``scale`` (that of a larger matrix ``G`` is a block of)."""
     m = G.shape[0]
-    big = 0.0
+    big = scale
     for i in range(m):
         for j in range(m):
             big = max(big, _size(G[i, j]))
@@ -427,11 +428,14 @@ def quadratic_eigenpair(A1, A0, sigma, u, max_shifts=3, steps=4, rtol=1e-12):
 
 
 @numba.njit(cache=False)
-def eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts=3, steps=4, rtol=1e-12):
+def eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts=3, steps=4, rtol=1e-12, floor=0.0):
     """:func:`quadratic_eigenpair` with the norms ``n0 = ||A0||``, ``n1 = ||A1||`` (:func:`row_norms`) and the
     work arrays ``G`` (m, m), ``piv``, ``w``, ``b``, ``inv`` (m) given. Complex (``sigma``, ``u``, the work arrays
     complex) or real (all of them real: the iteration from a real shift and a real start vector, whose complex
-    form stays real to the last bit, at a quarter of the cost); ``lam`` of the type of ``sigma``."""
+    form stays real to the last bit, at a quarter of the cost); ``lam`` of the type of ``sigma``. ``floor``: the
+    ``scale`` of :func:`floored_lu`'s floor (for a block of a larger problem, the larger one's size of entries: a
+    block singular to the last bit, e.g. a multiple of the identity, then gives finite iterates as it does
+    inside the larger matrix)."""
     m = A0.shape[0]
     for r in range(m):
         w[r] = sigma * u[r]
@@ -441,7 +445,7 @@ def eigenpair_near(A1, A0, n0, n1, sigma, u, G, piv, w, b, inv, max_shifts=3, st
     for shift in range(max_shifts):
         s = lam
         _quadratic_matrix(A1, A0, s, G)
-        floored_lu(G, piv, inv)
+        floored_lu(G, piv, inv, floor)
         for step in range(steps):
             # (C - s I) [u'; w'] = [u; w]: (A0 + s A1 - s^2 I) u' = w - (A1 - s I) u, w' = u + s u'
             for r in range(m):
