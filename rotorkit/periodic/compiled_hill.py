@@ -14,7 +14,8 @@ Hill's multipliers along a branch
     point's ``2n`` kept exponents instead (:func:`_hill_tracked`: shifted inverse iteration on the quadratic
     eigenproblem from the previous exponents, extrapolated, and their eigenvectors; a conjugate by conjugation;
     a real exponent followed in real arithmetic, the same values), a few solves of size ``n (2H + 1)`` instead
-    of a QR iteration of twice that size. It keeps a followed set only where it is the full method's selection
+    of a QR iteration of twice that size, or of the size of the one group of coupled harmonics that holds the
+    previous eigenvector (:func:`~rotorkit.periodic.compiled_hill_matrix.follow_exponent`). It keeps a followed set only where it is the full method's selection
     on the evidence at hand: each exponent converged to an eigenvector close to its predecessor's and is its
     family's most centred member (within ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
     one harmonic nearer the centre, their centres about one harmonic apart), the ``2n`` are distinct families
