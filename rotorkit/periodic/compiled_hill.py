@@ -166,6 +166,16 @@ def _is_copy(a, b, omega, tol):
     return abs(d.imag) < tol and rd != 0 and abs(d.real - rd) < tol
 
 
+@numba.njit(cache=False, inline="always")
+def _copy_of_kept(wr, wi, i, kept, nk, omega):
+    """Whether exponent ``i`` is a copy (:func:`_is_copy`) of one of the ``nk`` kept so far."""
+    for q in range(nk):
+        j = kept[q]
+        if _is_copy(complex(wr[i], wi[i]), complex(wr[j], wi[j]), omega, 1e-6):
+            return True
+    return False
+
+
 @numba.njit(cache=False)
 def _select(wr, wi, centre, n, omega):
     """The selection of :func:`rotorkit.periodic.stability.hill_multipliers`: the indices of the ``2n`` most
@@ -178,13 +188,7 @@ def _select(wr, wi, centre, n, omega):
     runner = np.inf
     for o in range(count):
         i = order[o]
-        copy = False
-        for q in range(nk):
-            j = kept[q]
-            if _is_copy(complex(wr[i], wi[i]), complex(wr[j], wi[j]), omega, 1e-6):
-                copy = True
-                break
-        if copy:
+        if _copy_of_kept(wr, wi, i, kept, nk, omega):
             continue
         if nk == 2 * n:
             runner = abs(centre[i])
@@ -298,13 +302,7 @@ def _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G,
         if best < 0:
             break
         walked[best] = True
-        copy = False
-        for q in range(nk):
-            j = kept[q]
-            if _is_copy(complex(wr[best], wi[best]), complex(wr[j], wi[j]), omega, 1e-6):
-                copy = True
-                break
-        if copy:
+        if _copy_of_kept(wr, wi, best, kept, nk, omega):
             continue
         if nk == 2 * n:
             runner = far
