@@ -341,7 +341,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
     chunk = CHUNK if progress is not None else opts.max_points
     first = True
     count = 1  # points so far, the start included
-    pieces = []  # (rows of [z, lambda], tangents, norms) per kernel call
+    pieces = []  # (rows of [z, lambda], tangents, norms, scales, accelerations) per kernel call
     while True:
         ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk, count=count,
                           max_points=opts.max_points, start=first)
