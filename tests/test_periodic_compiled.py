@@ -260,6 +260,25 @@ def kernel_points(hb, bounds, z_scale, max_points):
                                     options=ContinuationOptions(max_points=max_points))
 
 
+def test_the_kernels_tangents_are_the_python_references_the_starts_included(rub_system):
+    """Each point's tangent (scaled back to the unknowns' units) is the Python loop's, the start's too (the start
+    tangent along the range, not the last point's); the parameter's component changes sign where the
+    reference's does (at the first fold)."""
+    from rotorkit.periodic.continuation import ContinuationOptions, continue_branch
+
+    hb = HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3)
+    problem, points = kernel_points(hb, (60.0, 200.0), DELTA, 400)
+    reference = continue_branch(ContinuationProblem(hb, "R_speed"), np.asarray(points.coefficients[0]), 60.0,
+                                (60.0, 200.0), z_scale=DELTA, options=ContinuationOptions(max_points=400,
+                                                                                         compiled=False))
+    T, T_ref = np.asarray(points.tangents), np.asarray(reference.tangents)
+    assert T.shape == T_ref.shape and len(T) > 100
+    assert np.max(np.abs(T - T_ref)) < 1e-6 * np.max(np.abs(T_ref))
+    assert T[0, -1] > 0 and abs(T[0, -1] - T[-1, -1]) > 1e-3 * abs(T[0, -1])  # the start's own, not the last's
+    turns = np.flatnonzero(T[:-1, -1] * T[1:, -1] < 0)
+    assert len(turns) >= 1 and np.array_equal(turns, np.flatnonzero(T_ref[:-1, -1] * T_ref[1:, -1] < 0))
+
+
 def test_the_kernels_residual_scales_are_each_points_own_and_the_point_data_reuse_them(rub_system):
     """The continuation kernel computes each new point's residual scale (the corrector's for the next step, the
     Python reference's too); the per-point error estimates taken with them equal, to the bit, those that compute
@@ -267,10 +286,10 @@ def test_the_kernels_residual_scales_are_each_points_own_and_the_point_data_reus
     problem, points = kernel_points(HarmonicBalance(rub_system, speed_parameter="R_speed", harmonics=3),
                                     (60.0, 200.0), DELTA, 80)
     lam = np.asarray(points.parameter)
-    assert len(points.scales) == len(lam) == 80 and points.scales[0] == 0.0  # the start's: not computed
-    expected = [problem.frame(v).scale for v in lam[1:]]  # the Python reference's (hb.Frame)
-    assert np.allclose(points.scales[1:], expected, rtol=1e-13, atol=0)
-    assert np.ptp(points.scales[1:]) > 0.5 * np.max(points.scales)  # they change along the branch (m e W^2)
+    assert len(points.scales) == len(lam) == 80
+    expected = [problem.frame(v).scale for v in lam]  # the Python reference's (hb.Frame), the start's too
+    assert np.allclose(points.scales, expected, rtol=1e-13, atol=0)
+    assert np.ptp(points.scales) > 0.5 * np.max(points.scales)  # they change along the branch (m e W^2)
     Z = np.reshape(points.coefficients, (len(lam), -1))
     reused = fastpath.point_data(problem, lam, Z, "none", 4, points.scales)
     fresh = fastpath.point_data(problem, lam, Z, "none", 4)

@@ -492,17 +492,21 @@ def _branch(problem, points, stability):
     hb = problem.hb
     full = getattr(hb, "full", hb)  # the condensed problem's full harmonic balance
     n, H = hb.n, hb.harmonics
+    # (the compiled continuation's points are arrays, the Python loop's lists; ndarray methods rather than numpy's
+    # functions below: a branch of a small system spends a good part of its time in such calls)
     lam = np.array(points.parameter, dtype=float)
-    raw = np.array(points.coefficients, dtype=float).reshape(len(lam), -1)  # one row per point
+    count = len(lam)
+    raw = np.array(points.coefficients, dtype=float).reshape(count, -1)  # one row per point
     if full is not hb:
-        Z = np.array([hb.expand(z, problem.frame(v)) for z, v in zip(raw, lam)]).reshape(len(lam), 2 * H + 1, n)
+        Z = np.array([hb.expand(z, problem.frame(v)) for z, v in zip(raw, lam)]).reshape(count, 2 * H + 1, n)
     else:
-        Z = raw.reshape(len(lam), 2 * H + 1, n)
+        Z = raw.reshape(count, 2 * H + 1, n)
     omega, errors, multipliers = [], [], []
-    squares = Z[:, 1::2] ** 2 + Z[:, 2::2] ** 2  # (points, H, n): amplitudes squared (m^2: no overflow)
-    top = np.max(squares, axis=(1, 2), initial=0.0)
-    shares = np.sqrt(np.max(squares[:, -1], axis=1, initial=0.0) / np.where(top > 0, top, 1.0))
-    given = len(points.scales) == len(lam)  # the continuation kernel's scales and accelerations
+    squares = Z[:, 1:] ** 2
+    squares = squares[:, 0::2] + squares[:, 1::2]  # (points, H, n): amplitudes squared (m^2: no overflow)
+    top = squares.reshape(count, -1).max(axis=1)
+    shares = np.sqrt(squares[:, -1].max(axis=1) / np.where(top > 0, top, 1.0))
+    given = len(points.scales) == count  # the continuation kernel's scales and accelerations
     compiled = None if full is not hb else point_data(
         problem, lam, Z, stability, ERROR_GRID_FACTOR, points.scales if given else None,
         points.accelerations if given else None)
@@ -522,10 +526,10 @@ def _branch(problem, points, stability):
     stable, unstable = None, None
     if mu is not None:
         magnitude = np.abs(mu)
-        stable = np.all(magnitude <= 1.0 + STABILITY_TOL, axis=1)  # is_stable per point
-        unstable = np.sum(magnitude > 1.0 + STABILITY_TOL, axis=1)  # classify_crossing's count
+        stable = (magnitude <= 1.0 + STABILITY_TOL).all(axis=1)  # is_stable per point
+        unstable = (magnitude > 1.0 + STABILITY_TOL).sum(axis=1)  # classify_crossing's count
     bifurcations = []
-    along = np.array(points.tangents)[:, -1]  # the parameter's component of each tangent
+    along = np.asarray(points.tangents)[:, -1]  # the parameter's component of each tangent
     turns = along[:-1] * along[1:] < 0
     changes = None if unstable is None else unstable[:-1] != unstable[1:]
     events = turns if changes is None else turns | changes

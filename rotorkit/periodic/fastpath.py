@@ -56,6 +56,7 @@ MAX_COORDINATES = 10
 MAX_UNKNOWNS = 48
 
 
+@functools.cache
 def _numba_available():
     import importlib.util
 
@@ -319,61 +320,64 @@ def _kernel(kind):
 def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progress=None):
     """:func:`~rotorkit.periodic.continuation.continue_branch` by the compiled kernel into ``out`` (an empty
     :class:`~rotorkit.periodic.continuation.BranchPoints`): True, or False where it does not apply (then the
-    caller runs the Python loop)."""
+    caller runs the Python loop).
+
+    The points go into arrays of ``max_points`` rows made once: each kernel call writes its points into their
+    rows from the first free one on (views of them), the first call the start point too (row 0, its tangent
+    the start tangent); the branch's fields are views of the rows written."""
     from .compiled import BOUND, BUDGET, MIN_STEP
 
     setup = compiled_setup(problem)
     if setup is None:
         return False
     opts = options
-    start, stop = (float(b) for b in bounds)
+    start, stop = float(bounds[0]), float(bounds[1])
     lo, hi = min(start, stop), max(start, stop)
     l_scale = abs(stop - start)
     size = len(z0)
-    scales = np.concatenate([np.full(size, z_scale), [l_scale]])
     d_lam = 1e-7 * max(l_scale, abs(lam0))
     direction = 1.0 if stop >= start else -1.0
     fl = np.array([setup.s0, z_scale, l_scale, lo, hi, d_lam, opts.step, opts.min_step, opts.max_step, opts.tol,
                    direction, 0.0])
-    u0 = np.append(np.asarray(z0, dtype=float) / z_scale, lam0 / l_scale)
+    rows = opts.max_points + 1  # the kernel stops at max_points points; one row to spare
+    U, T = np.empty((rows, size + 1)), np.empty((rows, size + 1))
+    norms, scales, corner = np.empty(rows), np.empty(rows), np.empty(rows, dtype=np.bool_)
+    acc = np.empty((rows, setup.hb.samples, setup.hb.n))
+    u0 = np.empty(size + 1)
+    u0[:size] = z0
+    u0[:size] /= z_scale
+    u0[size] = lam0 / l_scale
     t0 = np.zeros(size + 1)
     kernel = _entry("continue")
     chunk = CHUNK if progress is not None else opts.max_points
-    first = True
-    count = 1  # points so far, the start included
-    pieces = []  # (rows of [z, lambda], tangents, norms, scales, accelerations) per kernel call
+    count = 0  # rows written
     while True:
-        ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk, count=count,
+        first = count == 0
+        ints = setup.ints(max_iterations=opts.max_iterations, max_new=chunk + first, count=count,
                           max_points=opts.max_points, start=first)
-        rows = chunk + 1
-        out_u, out_t = np.zeros((rows, size + 1)), np.zeros((rows, size + 1))
-        out_norm, out_scale, out_corner = np.zeros(rows), np.zeros(rows), np.zeros(rows, dtype=np.bool_)
-        out_acc = np.empty((rows, setup.hb.samples, setup.hb.n))
-        status, new = kernel(setup.addresses, ints, fl, setup.E, setup.P, setup.ED, setup.mass,
-                             setup.base, setup.varying, setup.coef, setup.window, setup.trig, setup.terms,
-                             setup.weights, u0, t0, out_u, out_t, out_norm, out_scale, out_acc, out_corner)
+        status, new = kernel(setup.addresses, ints, fl, setup.E, setup.P, setup.ED, setup.mass, setup.base,
+                             setup.varying, setup.coef, setup.window, setup.trig, setup.terms, setup.weights, u0, t0,
+                             U[count:], T[count:], norms[count:], scales[count:], acc[count:], corner[count:])
+        if status < 0:
+            return False  # a singular start tangent: the Python path raises its error
         if first:
-            if status < 0:
-                return False  # a singular start tangent: the Python path raises its error
-            unknown = np.full((1, setup.hb.samples, setup.hb.n), np.nan)  # the start's scale and accelerations
-            pieces.append((np.append(np.asarray(z0, dtype=float), float(lam0))[None, :], (t0 * scales)[None, :],
-                           np.zeros(1), np.zeros(1), unknown))
-            first = False
-        pieces.append((out_u[:new], out_t[:new] * scales, out_norm[:new], out_scale[:new], out_acc[:new]))
-        out.corners.extend((count + np.flatnonzero(out_corner[:new])).tolist())
+            U[0, :size], U[0, size] = z0, lam0  # the start as given (the kernel's is unscaled from u0)
         if progress is not None:
-            for k in range(new if status != BOUND else new - 1):
-                progress(count + k + 1, float(out_u[k, size]))
+            for k in range(max(count, 1), count + new - (status == BOUND)):
+                progress(k + 1, float(U[k, size]))
         count += new
         if status in (BUDGET, BOUND, MIN_STEP):
             break
-    U = np.concatenate([piece[0] for piece in pieces])
-    out.parameter = U[:, size].copy()
-    out.coefficients = U[:, :size]
-    out.tangents = np.concatenate([piece[1] for piece in pieces])
-    out.residuals = np.concatenate([piece[2] for piece in pieces])
-    out.scales = np.concatenate([piece[3] for piece in pieces])
-    out.accelerations = np.concatenate([piece[4] for piece in pieces])
+    T = T[:count]
+    T[:, :size] *= z_scale
+    T[:, size] *= l_scale
+    out.parameter = U[:count, size].copy()
+    out.coefficients = U[:count, :size]
+    out.tangents = T
+    out.residuals = norms[:count]
+    out.scales = scales[:count]
+    out.accelerations = acc[:count]
+    out.corners = np.flatnonzero(corner[:count]).tolist()
     if status == BUDGET:
         out.reason = f"point budget of {opts.max_points} points reached"
     elif status == BOUND:
@@ -502,10 +506,10 @@ def point_data(problem, parameter, coefficients, stability, grid_factor, scales=
     EG, EDG, EDDG = _error_grid(hb.harmonics, grid_factor * hb.samples)
     hill = stability == "hill"
     count = len(lam)
-    errors = np.zeros(count)
-    mu_re, mu_im = np.zeros((count, 2 * hb.n)), np.zeros((count, 2 * hb.n))
-    ok = np.ones(count, dtype=np.bool_)
-    known = np.zeros(count) if scales is None else np.array(scales, dtype=float)
+    errors = np.empty(count)  # the kernel writes every entry (mu_*, ok: with Hill's multipliers)
+    mu_re, mu_im = np.empty((count, 2 * hb.n)), np.empty((count, 2 * hb.n))
+    ok = np.empty(count, dtype=np.bool_)
+    known = np.zeros(count) if scales is None else np.ascontiguousarray(scales, dtype=float)
     if known.shape != (count,):
         raise ValueError(f"expected {count} residual scales, got shape {known.shape}")
     shape = (count, hb.samples, hb.n)

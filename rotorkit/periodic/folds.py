@@ -157,10 +157,11 @@ def turning_point(lam, Z, i):
     if len(j) < 3:
         return float(farther)
     j = j[:3] if abs(lam[j[1]] - farther) < abs(lam[j[-2]] - farther) or len(j) == 3 else j[1:]
-    width = float(np.ptp(lam)) or 1.0
-    size = float(np.max(np.abs(Z))) or 1.0
+    lam, Z = np.asarray(lam), np.asarray(Z)
+    width = float(lam.max() - lam.min()) or 1.0
+    size = float(np.abs(Z).max()) or 1.0
     l0, l1, l2 = (float(lam[k]) for k in j)
-    h1, h2 = (math.sqrt(float(np.sum(((Z[b] - Z[a]) / size) ** 2)) + ((lam[b] - lam[a]) / width) ** 2)
+    h1, h2 = (math.sqrt(float((((Z[b] - Z[a]) / size) ** 2).sum()) + ((lam[b] - lam[a]) / width) ** 2)
               for a, b in zip(j, j[1:]))
     # the parabola through (0, l0), (h1, l1), (h1 + h2, l2) by divided differences: l0 + d1 s + a s (s - h1)
     if h1 == 0.0 or h2 == 0.0:

@@ -168,13 +168,15 @@ def classify_crossing(before, after, tol=STABILITY_TOL):
     ``"Neimark-Sacker"`` (a complex pair), judged on the multiplier nearest the unit circle
     among those outside it on the unstable side.
     """
-    unstable_before = int(np.sum(np.abs(before) > 1.0 + tol))
-    unstable_after = int(np.sum(np.abs(after) > 1.0 + tol))
+    limit = 1.0 + tol
+    out_before = np.abs(before) > limit
+    out_after = np.abs(after) > limit
+    unstable_before, unstable_after = int(out_before.sum()), int(out_after.sum())
     if unstable_before == unstable_after:
         return None
-    side = after if unstable_after > unstable_before else before
-    outside = side[np.abs(side) > 1.0 + tol]
-    mu = outside[np.argmin(np.abs(outside))]
+    side, out = (after, out_after) if unstable_after > unstable_before else (before, out_before)
+    outside = np.asarray(side)[out]
+    mu = outside[np.abs(outside).argmin()]
     if abs(mu.imag) > 1e-6 * abs(mu):
         return "Neimark-Sacker"
     return "fold" if mu.real > 0 else "period doubling"
