@@ -192,3 +192,47 @@ def test_equal_end_diameters_in_a_turning_base_and_gravity_give_the_uniform_equa
         y = np.random.default_rng(1).normal(size=system.n_states) * 1e-3
         rhs.append(system.rhs(0.3, y))
     np.testing.assert_allclose(rhs[1], rhs[0], rtol=1e-9, atol=1e-9 * np.abs(rhs[0]).max())
+
+
+def test_tapered_torsion_integrates_the_polar_moment_along_the_taper():
+    """torsion=True: the element's torsional mass ``rho l int I_p(s) N_i N_j ds`` and stiffness ``G int I_p ds / l``
+    (linear shape functions ``N = (1 - s, s)``, ``I_p(s) = pi (d_o(s)^4 - d_i^4) / 32``), by quadrature here; for
+    equal end diameters the uniform BeamSegment's torsion (``rho I_p l / 3``, ``/ 6``, ``G I_p / l``)."""
+    from rotorkit import Disk, LumpedMass, ShaftSegment
+
+    L, d0, d1, di = 0.4, 0.08, 0.05, 0.02
+
+    def torsion_matrices(segment):
+        model = Model([Rotor(name="R", stations=(1, 2, 3), speed=0.0), segment,
+                       Disk(station=2, mass=5.0, radius=0.1, torsion=True),
+                       ShaftSegment(start=2, end=3, bending_stiffness=5e4, torsional_stiffness=300.0),
+                       LumpedMass(station=3, mass=1.0),
+                       ElasticSupport(station=1, stiffness=1e6), ElasticSupport(station=3, stiffness=1e6)])
+        M, _, K = (A.toarray() for A in linear_matrices(model))
+        a = [model.coordinate_names.index(c) for c in ("alpha1", "alpha2")]
+        return M[np.ix_(a, a)], K[np.ix_(a, a)]
+
+    def polar(s, end):
+        return math.pi / 32 * ((d0 + (end - d0) * s) ** 4 - di**4)
+
+    for end in (d1, d0):
+        M, K = torsion_matrices(TaperedBeamSegment(start=1, end=2, length=L, outer_diameter=d0,
+                                                   outer_diameter_end=end, inner_diameter=di, material=STEEL,
+                                                   torsion=True))
+        shape = (lambda s: 1 - s, lambda s: s)
+
+        def moment(i, j):
+            return scipy.integrate.quad(lambda s: polar(s, end) * shape[i](s) * shape[j](s), 0, 1, epsabs=0,
+                                        epsrel=1e-13)[0]
+
+        expected = STEEL.density * L * np.array([[moment(i, j) for j in range(2)] for i in range(2)])
+        assert M[0, 0] == pytest.approx(expected[0, 0], rel=1e-12)
+        assert M[0, 1] == pytest.approx(expected[0, 1], rel=1e-12) and M[1, 0] == pytest.approx(M[0, 1], rel=1e-14)
+        stiffness = STEEL.shear_modulus * scipy.integrate.quad(lambda s: polar(s, end), 0, 1, epsrel=1e-13)[0] / L
+        assert K[0, 0] == pytest.approx(stiffness, rel=1e-12) and K[0, 1] == pytest.approx(-stiffness, rel=1e-12)
+        if end == d0:
+            M_u, K_u = torsion_matrices(BeamSegment(start=1, end=2, length=L, outer_diameter=d0, inner_diameter=di,
+                                                    material=STEEL, torsion=True))
+            assert np.allclose(M, M_u, rtol=1e-12, atol=0) and np.allclose(K, K_u, rtol=1e-12, atol=0)
+            jl = STEEL.density * polar(0.0, d0) * L
+            assert M[0, 0] == pytest.approx(jl / 3, rel=1e-12) and M[0, 1] == pytest.approx(jl / 6, rel=1e-12)

@@ -227,13 +227,14 @@ class TaperedBeamSegment(BeamSegment):
         return do, p["inner_diameter"] + (p["inner_diameter_end"] - p["inner_diameter"]) * f
 
     def _tapered_element(self, q):
-        """(K, M, Mr, I_mean, (M_t, R)) of one plane from placeholder symbols ``q``.
+        """(K, M, Mr, I_mean, Ik, (M_t, R)) of one plane from placeholder symbols ``q``.
 
         ``q`` holds ``do_a, do_b, di_a, di_b`` (node diameters), ``density``,
         ``youngs_modulus``, ``shear_modulus``, ``shear_coefficient``, ``l`` and
         ``axial_force``. ``Mr`` is the rotary integral per unit ``rho``
         (``int I(s) N_beta^T N_beta dz``), ``M_t`` the translational mass and
-        ``R = int I(s) N_beta^T dz`` (for a turning base).
+        ``R = int I(s) N_beta^T dz`` (for a turning base); ``Ik`` the coefficients of ``I(s) = sum_k Ik[k] s^k``
+        (``s`` from 0 to 1 along the element; the torsion's ``I_p(s) = 2 I(s)``).
         """
         import sympy as sp
 
@@ -286,7 +287,7 @@ class TaperedBeamSegment(BeamSegment):
         Mt = rho * combine(Ak, "translational")
         M = Mt + rho * Mr if self.rotary_inertia else Mt
         R = sum((c * v for c, v in zip(Ik, tapered_moments()["rotary_vector"])), sp.zeros(4, 1)).xreplace(subs)
-        return K, M, Mr, I_mean, (Mt, R)
+        return K, M, Mr, I_mean, Ik, (Mt, R)
 
     def _forms_template(self):
         """(placeholders, spin, mass, stiffness, gyroscopic, torsion) 8x8 (and 2x2) of one element."""
@@ -302,7 +303,7 @@ class TaperedBeamSegment(BeamSegment):
             if self._solid():
                 q["di_a"] = q["di_b"] = sp.S.Zero
             spin = sp.Symbol("_taper_spin", real=True)
-            K, M, Mr, I_mean, (Mt, R) = self._tapered_element(q)
+            K, M, Mr, I_mean, Ik, (Mt, R) = self._tapered_element(q)
             sign = sp.diag(1, -1, 1, -1)  # y-z plane: (w, beta) = (y, -thx)
             Z = sp.zeros(4, 4)
             mass = sp.ImmutableMatrix(sp.BlockMatrix([[M, Z], [Z, sign * M * sign]]))
