@@ -248,22 +248,22 @@ def _corner(u0, t0, h, u1, t_new, scale, rhs, jac, sw, ints, fl, E, P, ED, M, ba
 def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, window, trig, terms, weights, u0, t0,
                     out_u, out_t, out_norm, out_scale, out_acc, out_corner):
     """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
-    resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent
-    is computed first (along ``fl[10]``) and the start point is the first row written (counted among the new
-    points; its scale the residual scale there, its accelerations unknown: ``nan``); ``ints[9] == 2``: only Newton at ``fl[11]`` (tolerance ``fl[9]``) from
-    ``u0[:-1]`` (unscaled) into ``out_u[0]``, returning ``(converged, iterations)``; ``ints[9] == 3``: the
-    largest amplitude of the linear response (one Newton step from zero) over the parameter values in ``t0``,
-    into ``out_norm[0]``; ``ints[9] == 4``: the contact switches at ``(u0[:-1], fl[11])``, the largest value
-    into ``out_norm[0]`` and per switch whether it is positive at some sample into ``out_corner``; ``ints[9] ==
-    5``: the grazing fold between the points ``out_u`` (6 rows, :func:`~rotorkit.periodic.compiled_folds.grazing_value`;
-    ``out_corner[:6]`` which exist, ``ints[6]`` steps per piece, ``ints[8]`` aims per step) into ``out_norm[0]``.
-    Returns ``(status, new points)``; ``fl[6]`` holds the next step; ``out_scale`` each new point's residual
-    scale (:func:`~rotorkit.periodic.compiled_aft.scale_at_rest` at its parameter: the corrector's for the next
-    step, and the per-point data's), ``out_acc`` (rows, N, n) its accelerations at the AFT samples (the last
-    residual's, at the point: the per-point error estimate's there; ``nan`` first where the last residual was
-    elsewhere). ``trig``, ``terms``, ``weights``: the AFT
-    Jacobian's tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`); ``functions`` the addresses of the
-    model's ``rhs``, ``jac`` and ``switches`` (:func:`~rotorkit.periodic.compiled_functions.function_addresses`)."""
+    resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent is
+    computed first (along ``fl[10]``) and the start point is the first row written (counted among the new points;
+    its scale the residual scale there, its accelerations unknown: ``nan``); ``ints[9] == 2``: only Newton at
+    ``fl[11]`` (tolerance ``fl[9]``) from ``u0[:-1]`` (unscaled) into ``out_u[0]``, returning ``(converged,
+    iterations)``; ``ints[9] == 3``: the largest amplitude of the linear response (one Newton step from zero) over
+    the parameter values in ``t0``, into ``out_norm[0]``; ``ints[9] == 4``: the contact switches at ``(u0[:-1],
+    fl[11])``, the largest value into ``out_norm[0]`` and per switch whether it is positive at some sample into
+    ``out_corner``; ``ints[9] == 5``: the grazing fold between the points ``out_u`` (6 rows,
+    :func:`~rotorkit.periodic.compiled_folds.grazing_value`; ``out_corner[:6]`` which exist, ``ints[6]`` steps per
+    piece, ``ints[8]`` aims per step) into ``out_norm[0]``. Returns ``(status, new points)``; ``fl[6]`` holds the
+    next step; ``out_scale`` each new point's residual scale (:func:`~rotorkit.periodic.compiled_aft.scale_at_rest`
+    at its parameter: the corrector's for the next step, and the per-point data's), ``out_acc`` (rows, N, n) its
+    accelerations at the AFT samples (the last residual's, at the point: the per-point error estimate's there;
+    ``nan`` first where the last residual was elsewhere). ``trig``, ``terms``, ``weights``: the AFT Jacobian's
+    tables (:func:`~rotorkit.periodic.compiled_aft.aft_tables`); ``functions`` the addresses of the model's ``rhs``,
+    ``jac`` and ``switches`` (:func:`~rotorkit.periodic.compiled_functions.function_addresses`)."""
     rhs = core_function(functions[0], functions[1])
     jac = jac_function(functions[2], functions[3])
     sw = core_function(functions[4], functions[5])

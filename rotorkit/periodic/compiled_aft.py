@@ -129,7 +129,8 @@ def workspace(ints, base, trig, terms, weights):
     n, N = ints[0], ints[2]
     H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
-            np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)), np.empty((2 * n, 2 * n)),
+            np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)),
+            np.empty((2 * n, 2 * n)),
             np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights, np.empty((N, n)),
             np.empty((N, n)), np.full(1, np.nan))
 

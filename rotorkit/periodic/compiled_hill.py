@@ -15,7 +15,8 @@ Hill's multipliers along a branch
     eigenproblem from the previous exponents, extrapolated, and their eigenvectors; a conjugate by conjugation;
     a real exponent followed in real arithmetic, the same values), a few solves of size ``n (2H + 1)`` instead
     of a QR iteration of twice that size, or of the size of the one group of coupled harmonics that holds the
-    previous eigenvector (:func:`~rotorkit.periodic.compiled_hill_matrix.follow_exponent`). It keeps a followed set only where it is the full method's selection
+    previous eigenvector (:func:`~rotorkit.periodic.compiled_hill_matrix.follow_exponent`). It keeps a followed
+    set only where it is the full method's selection
     on the evidence at hand: each exponent converged to an eigenvector close to its predecessor's and is its
     family's most centred member (within ``TRACK_CENTRE`` of harmonic 0, or the more centred of it and its copy
     one harmonic nearer the centre, their centres about one harmonic apart), the ``2n`` are distinct families
@@ -82,7 +83,8 @@ def hill_workspace(n, H):
             np.empty((size, size)), np.empty(size), np.empty(size), np.empty(size), np.empty(size, dtype=np.int64),
             np.empty((size, size), dtype=c16), np.empty(size, dtype=c16), np.empty(size, dtype=c16),
             np.empty(size, dtype=c16), np.empty(size, dtype=c16),
-            np.empty((2 * size, 2 * size)), np.empty(2 * size), np.empty(2 * size), np.empty((2 * size, size), dtype=c16),
+            np.empty((2 * size, 2 * size)), np.empty(2 * size), np.empty(2 * size),
+            np.empty((2 * size, size), dtype=c16),
             np.empty(2 * size),
             np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n), np.empty(2 * n, dtype=c16),
             np.empty(2 * n, dtype=c16), np.empty((2 * n, size), dtype=c16), np.empty(2 * n, dtype=c16),
@@ -233,8 +235,9 @@ def _offset(wr, wi, j, e, omega, tol):
 @numba.njit(cache=False)
 def _select_lazy(A21, A22, wr, wi, n, H, omega, vectors, centre, Gr, ur, piv, G, x):
     """The centre of every eigenvector (:func:`_centre_at`) and :func:`_select` (the same ``kept``, the kept
-    eigenvectors and centres the same values; ``runner`` the same below ``RUNNER_CENTRE``, else a bound from below, at least ``RUNNER_CENTRE``:
-    all :func:`hill_step` asks), a null vector computed only for the eigenvalues the selection reaches.
+    eigenvectors and centres the same values; ``runner`` the same below ``RUNNER_CENTRE``, else a bound from
+    below, at least ``RUNNER_CENTRE``: all :func:`hill_step` asks), a null vector computed only for the
+    eigenvalues the selection reaches.
 
     The selection walks the exponents in the order of ``|centre|`` and stops after the ``2n``-th family and
     its runner. A copy ``lambda + i s w`` of an exponent whose centre ``c`` is known has the centre ``c - s``

@@ -43,7 +43,8 @@ def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, win
     """Per point: the truncation-error estimate (max |M (q'' - a)| on the grid of ``EG``'s rows over the residual
     scale, ``scales[i]`` where positive (the continuation kernel's), else computed here; at the grid's AFT
     samples, every ``G / N``-th instant, ``a`` is ``accs[i]`` (N, n: the continuation's last residual's) unless
-    ``accs[i, 0, 0]`` is nan) and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR iteration failed).
+    ``accs[i, 0, 0]`` is nan) and, with ``ints[10]``, Hill's multipliers (``hill_ok[i]`` False where the QR
+    iteration failed).
     ``functions``: the addresses of the model's ``rhs`` and ``jac`` (the first four of
     :func:`~rotorkit.periodic.compiled_functions.function_addresses`), called as the continuation kernel calls them."""
     rhs = core_function(functions[0], functions[1])

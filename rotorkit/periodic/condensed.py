@@ -90,7 +90,7 @@ class CondensedHarmonicBalance(HarmonicBalance):
         found = getattr(frame, "_condensed", None)
         if found is not None:
             return found
-        n, H, c = self.n, self.harmonics, self.kept
+        H, c = self.harmonics, self.kept
         i = self._others
         nc, ni = len(c), len(i)
         H2 = 2 * H + 1

@@ -2,7 +2,8 @@
 
 A speed branch of a small system costs the Python path a few milliseconds
 per point, nearly all of it call overhead around arrays of a few dozen
-entries. The numba kernels of :mod:`rotorkit.periodic.compiled` and :mod:`~rotorkit.periodic.compiled_points` run the same
+entries. The numba kernels of :mod:`rotorkit.periodic.compiled` and
+:mod:`~rotorkit.periodic.compiled_points` run the same
 algorithm (the continuation loop with its corrector, tangents, step control,
 grazing corners and the end at a bound; then per point the error estimate
 and Hill's multipliers) in one call each.
@@ -322,9 +323,9 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
     :class:`~rotorkit.periodic.continuation.BranchPoints`): True, or False where it does not apply (then the
     caller runs the Python loop).
 
-    The points go into arrays of ``max_points`` rows made once: each kernel call writes its points into their
-    rows from the first free one on (views of them), the first call the start point too (row 0, its tangent
-    the start tangent); the branch's fields are views of the rows written."""
+    The points go into arrays of ``max_points + 1`` rows made once: each kernel call writes its points into
+    their rows from the first free one on (views of them), the first call the start point too (row 0, its
+    tangent the start tangent); the branch's fields are views of the rows written."""
     from .compiled import BOUND, BUDGET, MIN_STEP
 
     setup = compiled_setup(problem)
