@@ -70,6 +70,16 @@ def cases():
     return out
 
 
+def case_matrices(name):
+    """``(A21, A22, n, omega, eigenvalues)`` of case ``name``: Hill's blocks, the coordinates, the base frequency
+    and numpy's eigenvalues of the whole companion matrix."""
+    stiffness, damping, omega = cases()[name]
+    A21, A22 = hill_blocks(stiffness, damping, omega)
+    size = A21.shape[0]
+    companion = np.block([[np.zeros((size, size)), np.eye(size)], [A21, A22]])
+    return A21, A22, size // (2 * H + 1), omega, np.linalg.eigvals(companion)
+
+
 @pytest.fixture(scope="module")
 def kernels():
     from rotorkit.periodic import compiled_hill as ch
@@ -144,15 +154,10 @@ def kernels():
 @pytest.mark.parametrize("name", list(cases()))
 def test_the_lazy_selection_is_the_plain_one(name, kernels):
     both, _, runner_centre = kernels
-    stiffness, damping, omega = cases()[name]
-    A21, A22 = hill_blocks(stiffness, damping, omega)
-    size = A21.shape[0]
-    n = size // (2 * H + 1)
+    A21, A22, n, omega, reference = case_matrices(name)
     ok, lam, kept, runner, vectors, centre, lazy_kept, lazy_runner, lazy_vectors, lazy_centre = both(
         A21, A22, n, H, omega)
     assert ok
-    companion = np.block([[np.zeros((size, size)), np.eye(size)], [A21, A22]])
-    reference = np.linalg.eigvals(companion)
     assert np.max(np.min(np.abs(lam[:, None] - reference[None, :]), axis=1)) < 1e-9 * np.max(np.abs(reference))
     assert len(kept) == 2 * n
     # the same selection, the kept eigenvectors and centres bit for bit
@@ -171,6 +176,7 @@ def test_the_lazy_selection_is_the_plain_one(name, kernels):
         assert computed.sum() < (len(lam) if name == "parametric" else len(lam) // 2)
     if name.startswith("isotropic") or name == "gyroscopic":
         # an LTI system: the exponents of q'' + C q' + K q = 0 themselves are kept (copies centred at harmonic k)
+        stiffness, damping, _ = cases()[name]
         K, C = stiffness(0.0), damping(0.0)
         lti = np.linalg.eigvals(np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]]))
         assert np.max(np.min(np.abs(lam[kept][:, None] - lti[None, :]), axis=1)) < 1e-9 * np.max(np.abs(lti))
@@ -188,18 +194,13 @@ GROUPS = {"isotropic": H + 1, "isotropic, fast": H + 1, "gyroscopic": H + 1, "ov
 @pytest.mark.parametrize("name", list(cases()))
 def test_the_full_method_per_group_of_harmonics(name, kernels):
     both, full, _ = kernels
-    stiffness, damping, omega = cases()[name]
-    A21, A22 = hill_blocks(stiffness, damping, omega)
-    size = A21.shape[0]
-    n = size // (2 * H + 1)
+    A21, A22, n, omega, reference = case_matrices(name)
     ok, lam, count, group, grouped, eigen = full(A21, A22, n, H, omega)
     assert ok and grouped
     assert count == GROUPS[name]
     if name == "even":
         assert list(group) == [0, 1, 0, 1]
     # all eigenvalues, group by group, are those of the whole companion matrix (numpy's)
-    companion = np.block([[np.zeros((size, size)), np.eye(size)], [A21, A22]])
-    reference = np.linalg.eigvals(companion)
     scale = np.max(np.abs(reference))
     assert np.max(np.min(np.abs(eigen[:, None] - reference[None, :]), axis=1)) < 1e-12 * scale
     assert np.max(np.min(np.abs(reference[:, None] - eigen[None, :]), axis=1)) < 1e-12 * scale
