@@ -168,9 +168,9 @@ class BranchPoints:
 
     ``parameter``, ``coefficients``, ``tangents`` and ``residuals`` hold one entry (a row) per point: lists
     from the Python loop, arrays from the compiled kernel (:func:`rotorkit.periodic.fastpath.continue_compiled`),
-    which also gives ``scales``, each point's residual scale (zero where it did not compute it: the start; empty
-    from the Python loop), and ``accelerations`` (n_points, N, n), each point's accelerations at its AFT samples
-    (its last residual's; nan first where unknown), which the point's error estimate reuses."""
+    which also gives ``scales``, each point's residual scale (the start's too; empty from the Python loop), and
+    ``accelerations`` (n_points, N, n), each point's accelerations at its AFT samples (its last residual's; nan
+    first where unknown: the start's), which the point's error estimate reuses."""
 
     parameter: list = field(default_factory=list)
     coefficients: list = field(default_factory=list)
