@@ -250,7 +250,8 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     """The loop of :func:`~rotorkit.periodic.continuation.continue_branch` from ``(u0, t0)`` (scaled; updated to
     resume) for at most ``ints[6]`` new points; ``ints[7]`` points exist. With ``ints[9] == 1`` the start tangent is
     computed first (along ``fl[10]``) and the start point is the first row written (counted among the new points;
-    its scale the residual scale there, its accelerations unknown: ``nan``); ``ints[9] == 2``: only Newton at
+    its tangent, its scale the residual scale there, its accelerations unknown: ``nan``; ``out_u[0]``, the start
+    itself, is the caller's); ``ints[9] == 2``: only Newton at
     ``fl[11]`` (tolerance ``fl[9]``) from ``u0[:-1]`` (unscaled) into ``out_u[0]``, returning ``(converged,
     iterations)``; ``ints[9] == 3``: the largest amplitude of the linear response (one Newton step from zero) over
     the parameter values in ``t0``, into ``out_norm[0]``; ``ints[9] == 4``: the contact switches at ``(u0[:-1],
@@ -330,9 +331,6 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     # the residual scale of the last point (of u0 first): the corrector's, and the per-point data's of each new point
     scale = force_scale_into(u0[size] * fl[2], rhs, jac, ints, fl, E, P, M, base, varying, coef, window, ws)
     if ints[9]:  # the start point is the first row (its tangent the one just computed; no residual there)
-        for i in range(size):
-            out_u[0, i] = u0[i] * fl[1]
-        out_u[0, size] = u0[size] * fl[2]
         out_t[0] = t0
         out_norm[0] = 0.0
         out_scale[0] = scale

@@ -348,6 +348,7 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
     u0[:size] = z0
     u0[:size] /= z_scale
     u0[size] = lam0 / l_scale
+    U[0, :size], U[0, size] = z0, lam0  # the start as given (the kernel writes the rest of its row)
     t0 = np.zeros(size + 1)
     kernel = _entry("continue")
     chunk = CHUNK if progress is not None else opts.max_points
@@ -361,8 +362,6 @@ def continue_compiled(problem, z0, lam0, bounds, *, z_scale, options, out, progr
                              U[count:], T[count:], norms[count:], scales[count:], acc[count:], corner[count:])
         if status < 0:
             return False  # a singular start tangent: the Python path raises its error
-        if first:
-            U[0, :size], U[0, size] = z0, lam0  # the start as given (the kernel's is unscaled from u0)
         if progress is not None:
             for k in range(max(count, 1), count + new - (status == BOUND)):
                 progress(k + 1, float(U[k, size]))
