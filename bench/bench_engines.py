@@ -83,7 +83,7 @@ def bench_rhs_in_loop():
             out = fn()
             runs[name].append((time.perf_counter() - t0, out))
     t_gen, (n_gen, y_gen) = statistics.median(t for t, _ in runs["generated"]), runs["generated"][0][1]
-    t_hand, (n_hand, y_hand) = statistics.median(t for t, _ in runs["hand"]), runs["hand"][0][1]
+    t_hand, (n_hand, _) = statistics.median(t for t, _ in runs["hand"]), runs["hand"][0][1]
     ratios = sorted((g / n_gen) / (h / n_hand) for (g, _), (h, _) in zip(runs["generated"], runs["hand"]))
     print("\n1. RHS inside the compiled DOP853 loop, AL-31F 0-6 s (median of 7, interleaved):")
     print(f"   generated RHS:    {t_gen:.3f} s, {n_gen} evaluations, {t_gen / n_gen * 1e9:6.0f} ns per evaluation+step")

@@ -97,7 +97,7 @@ class TiltingHub(Element):
         return self.coordinates()
 
     def contribute(self, ctx):
-        (a, ad), (b, bd) = ctx.coord(self.station, "thx"), ctx.coord(self.station, "thy")
+        (_, ad), (b, bd) = ctx.coord(self.station, "thx"), ctx.coord(self.station, "thy")
         Id, Ip, spin = ctx.p["diametral_inertia"], ctx.p["polar_inertia"], ctx.speed(self.station)
         return Terms(kinetic=Id * (ad**2 + bd**2) / 2 + Ip * spin * ad * b)
 

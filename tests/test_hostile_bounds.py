@@ -103,7 +103,8 @@ def test_a_run_that_would_take_about_1e10_explicit_steps_is_refused_before_it_st
 def test_equations_of_a_large_model_print_a_summary():
     import sympy as sp
 
-    from rotorkit.symbolic.lagrange import MAX_DISPLAYED_COORDINATES, MAX_PRINTED_LINES, EquationsOfMotion
+    from rotorkit.symbolic.equations import MAX_DISPLAYED_COORDINATES, MAX_PRINTED_LINES
+    from rotorkit.symbolic.lagrange import EquationsOfMotion
 
     n = 3000
     q = sp.symbols(f"q0:{n}")

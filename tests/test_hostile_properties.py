@@ -23,7 +23,6 @@ minute.
 """
 
 import contextlib
-import os
 import signal
 import string
 from pathlib import Path

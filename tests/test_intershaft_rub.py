@@ -24,7 +24,7 @@ import sympy as sp
 
 import rotorkit as rk
 from rotorkit.analysis.energy import energy_balance
-from rotorkit.model import Context
+from rotorkit.context import Context
 from rotorkit.symbolic.functions import contact_ratio, hypot, ramp, step
 from rotorkit.symbolic.lagrange import Symbols
 

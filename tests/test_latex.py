@@ -1,8 +1,6 @@
 """LaTeX of the custom functions, of every element and of whole equations (notebook display)."""
 
 import inspect
-import os
-from pathlib import Path
 
 import pytest
 import sympy as sp

@@ -352,7 +352,7 @@ def generate_structured(eom, structure_key="", jacobian=True, solve="auto"):
     prep += [
         f"    s = np.array({list(S)!r}, dtype=np.int64)",
         f"    r = np.array({[i for i in range(n) if i not in S]!r}, dtype=np.int64)",
-        f"    w, pm, h = _block_inverse(m0, r, s)",
+        "    w, pm, h = _block_inverse(m0, r, s)",
         f"    out[{off_minv}:{off_minv + n * n}] = w.ravel()",
         f"    out[{off_h}:{off_h + ns * ns}] = h.ravel()",
         f"    out[{off_pm}:{off_pm + n * ns}] = pm.ravel()",

@@ -38,7 +38,6 @@ A steady level turn at 0.5 rad/s about a vertical axis 800 m to the left:
 
 from dataclasses import dataclass
 from types import SimpleNamespace
-from typing import Callable
 
 from ..errors import ParameterError
 from ..units import to_si

@@ -241,7 +241,7 @@ class Disk(Element):
         from .terms import Terms
 
         p = ctx.p
-        (x, xd), (y, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
+        (_, xd), (_, yd) = ctx.coord(self.station, "x"), ctx.coord(self.station, "y")
         spin = ctx.speed(self.station)
         m, e = p["mass"], p["eccentricity"]
         phi = ctx.spin_angle(self.station) + p["phase"]  # Omega t at constant speed

@@ -128,8 +128,6 @@ def plot_orbit(result, station, ax=None, *, units="um", start=None, end=None, cl
     if line_kwargs or t.size < 2:
         ax.plot(x, y, lw=0.4, **line_kwargs)
     else:  # colour shows time, so the path through a manoeuvre can be followed
-        from matplotlib.collections import LineCollection
-
         lines = _time_coloured_path(x, y, t)
         ax.add_collection(lines)
         ax.autoscale_view()

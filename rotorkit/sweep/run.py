@@ -6,7 +6,6 @@ import json
 import math
 import numbers
 from collections.abc import Mapping
-from pathlib import Path
 
 from ..errors import ArgumentTypeError, ParameterError, RotorkitError, SimulationError
 from . import storage
