@@ -40,6 +40,7 @@ import numba
 import numpy as np
 
 from .compiled_aft import force_scale_into, residual, residual_same_states, same_state, switches_of, workspace
+from .compiled_borrow import borrowed
 from .compiled_folds import grazing_value
 from .compiled_functions import core_function, jac_function
 from .compiled_newton import bordered, buffers, newton, solve_fixed, vector_norm
@@ -270,10 +271,6 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     sw = core_function(functions[4], functions[5])
     m = u0.shape[0]
     size = m - 1
-    lo, hi = fl[3], fl[4]
-    min_step, max_step = fl[7], fl[8]
-    contact = ints[4] > 0
-    max_new, count, max_points = ints[6], ints[7], ints[8]
     ws = workspace(ints, base, trig, terms, weights)
     if ints[9] == 2:  # Newton at the fixed parameter fl[11] from u0[:size] (unscaled): (converged, iterations)
         z = u0[:size].copy()
@@ -309,15 +306,37 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
             out_corner[k] = state[k]
         return 0, 0
     if ints[9] == 5:  # the grazing fold between the points out_u (unscaled), out_corner which exist
-        out_norm[0] = grazing_value(out_u, out_corner, max_new, max_points, rhs, jac, sw, ints, fl, E, P, ED, M, base,
+        out_norm[0] = grazing_value(out_u, out_corner, ints[6], ints[8], rhs, jac, sw, ints, fl, E, P, ED, M, base,
                                     varying, coef, window, ws)
         return 0, 0
-    nb = buffers(m, size)
-    F = np.empty(m)
-    JF = np.empty((m, m))
+    # the loop's work arrays, made here and lent to _continue (which borrows them: compiled_borrow)
+    scratch = (np.empty((size, m)), np.zeros(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m),
+               np.zeros(m), np.zeros(m))
+    return _continue(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, buffers(m, size),
+                     np.empty(m), np.empty((m, m)), scratch, u0, t0, out_u, out_t, out_norm, out_scale, out_acc,
+                     out_corner)
+
+
+@numba.njit(cache=False)
+def _continue(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF, scratch, u0, t0,
+              out_u, out_t, out_norm, out_scale, out_acc, out_corner):
+    """The continuation loop of :func:`continue_kernel` (its modes 0 and 1) on the work arrays it made
+    (``scratch``: the start tangent's matrix and reference, then ``u1, t1, u_pred, u_prev, t_prev, curve,
+    cubic``), every array borrowed for the call (:func:`~rotorkit.periodic.compiled_borrow.borrowed`: the hot
+    calls below pass them without reference counts)."""
+    ints, fl, E, P, ED, M, base, varying, coef, window = borrowed((ints, fl, E, P, ED, M, base, varying, coef,
+                                                                     window))
+    ws, nb, F, JF, scratch, u0, t0 = borrowed((ws, nb, F, JF, scratch, u0, t0))
+    out_u, out_t, out_norm, out_scale, out_acc, out_corner = borrowed((out_u, out_t, out_norm, out_scale, out_acc,
+                                                                       out_corner))
+    A, reference, u1, t1, u_pred, u_prev, t_prev, curve, cubic = scratch
+    m = u0.shape[0]
+    size = m - 1
+    lo, hi = fl[3], fl[4]
+    min_step, max_step = fl[7], fl[8]
+    contact = ints[4] > 0
+    max_new, count, max_points = ints[6], ints[7], ints[8]
     if ints[9]:
-        A = np.empty((size, m))
-        reference = np.zeros(m)
         reference[size] = fl[10]
         if not _full_jacobian(u0, rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, A):
             return -1, 0
@@ -337,14 +356,9 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         out_acc[0, 0, 0] = np.nan
         out_corner[0] = False
         new = 1
-    u1 = np.empty(m)
-    t1 = np.empty(m)
-    u_pred = np.empty(m)
-    u_prev = np.empty(m)
-    t_prev = np.empty(m)
-    curve = np.zeros(m)  # the predictor's quadratic term (_curvature), zero at the first step of a call
+    # curve: the predictor's quadratic term (_curvature), zero at the first step of a call; cubic: its cubic term b
+    # (_cubic), where have_cubic; d_cubic its d_1
     curve_set = False  # the reference's curve is not None
-    cubic = np.zeros(m)  # the predictor's cubic term b (_cubic), where have_cubic; d_cubic its d_1
     have_cubic = False
     d_cubic = 0.0
     while True:

@@ -20,6 +20,7 @@ import numba
 import numpy as np
 
 from .compiled_aft import prepared_parameters, scale_at_rest
+from .compiled_borrow import borrowed
 from .compiled_functions import core_function, jac_function
 from .compiled_hill import ANCHOR_EVERY, hill_branch, hill_step, hill_workspace
 
@@ -47,22 +48,32 @@ def point_data_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, win
     iteration failed).
     ``functions``: the addresses of the model's ``rhs`` and ``jac`` (the first four of
     :func:`~rotorkit.periodic.compiled_functions.function_addresses`), called as the continuation kernel calls them."""
-    rhs = core_function(functions[0], functions[1])
-    jac = jac_function(functions[2], functions[3])
     n = ints[0]
-    H2 = E.shape[1]
     G = EG.shape[0]
-    p = np.empty(base.shape[0])
-    A0 = np.empty((2 * n, 2 * n))
-    y = np.empty(2 * n)
-    a = np.empty(2 * n)
-    acc = np.empty(n)
     rest, rest_f = np.zeros(2 * n), np.empty((ints[2], n))  # the state at rest, the forces there per instant
-    ws = hill_workspace(n, ints[1])
     # the synthesis of q, q', q'' on the grid per coordinate, the grid's instants contiguous (each entry summed
     # over the harmonics in their order, as a sum per instant would)
-    EGt, EDGt, EDDGt = EG.T.copy(), EDG.T.copy(), EDDG.T.copy()
-    Yq, Yv, Ya = np.empty((n, G)), np.empty((n, G)), np.empty((n, G))
+    work = (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty(2 * n), np.empty(2 * n), np.empty(n), rest,
+            rest_f, EG.T.copy(), EDG.T.copy(), EDDG.T.copy(), np.empty((n, G)), np.empty((n, G)), np.empty((n, G)))
+    _points(core_function(functions[0], functions[1]), jac_function(functions[2], functions[3]), ints, fl, E, P, ED,
+            M, base, varying, coef, window, lams, Zs, scales, accs, errors, mu_re, mu_im, hill_ok, work,
+            hill_workspace(n, ints[1]))
+
+
+@numba.njit(cache=False)
+def _points(rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window, lams, Zs, scales, accs, errors, mu_re,
+            mu_im, hill_ok, work, ws):
+    """The loop over the points of :func:`point_data_kernel` on the work arrays it made (``work``: ``p, A0, y,
+    a, acc, rest, rest_f``, the transposed synthesis matrices, ``Yq, Yv, Ya``; ``ws`` Hill's), every array
+    borrowed for the call (:func:`~rotorkit.periodic.compiled_borrow.borrowed`)."""
+    ints, fl, E, P, ED, M, base, varying, coef, window = borrowed((ints, fl, E, P, ED, M, base, varying, coef,
+                                                                     window))
+    lams, Zs, scales, accs, errors, mu_re, mu_im, hill_ok, work, ws = borrowed((lams, Zs, scales, accs, errors, mu_re,
+                                                                                mu_im, hill_ok, work, ws))
+    p, A0, y, a, acc, rest, rest_f, EGt, EDGt, EDDGt, Yq, Yv, Ya = work
+    n = ints[0]
+    H2 = E.shape[1]
+    G = EGt.shape[1]
     for pt in range(lams.shape[0]):
         lam = lams[pt]
         z = Zs[pt]

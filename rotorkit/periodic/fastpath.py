@@ -211,13 +211,13 @@ def _cache_name(kind):
     import hashlib
     from pathlib import Path
 
-    from . import (compiled, compiled_aft, compiled_folds, compiled_functions, compiled_hill, compiled_hill_matrix,
-                   compiled_newton, compiled_points, eigen, stability)
+    from . import (compiled, compiled_aft, compiled_borrow, compiled_folds, compiled_functions, compiled_hill,
+                   compiled_hill_matrix, compiled_newton, compiled_points, eigen, stability)
 
     digest = hashlib.sha256()  # every module whose code or constants (stability.STABILITY_TOL) the kernels bake in
-    for path in (compiled.__file__, compiled_aft.__file__, compiled_folds.__file__, compiled_functions.__file__,
-                 compiled_hill.__file__, compiled_hill_matrix.__file__, compiled_newton.__file__,
-                 compiled_points.__file__, eigen.__file__, stability.__file__):
+    for path in (compiled.__file__, compiled_aft.__file__, compiled_borrow.__file__, compiled_folds.__file__,
+                 compiled_functions.__file__, compiled_hill.__file__, compiled_hill_matrix.__file__,
+                 compiled_newton.__file__, compiled_points.__file__, eigen.__file__, stability.__file__):
         digest.update(Path(path).read_bytes())
     return f"periodic_{kind}-{digest.hexdigest()[:12]}"
 
