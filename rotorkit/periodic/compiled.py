@@ -271,7 +271,29 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
     sw = core_function(functions[4], functions[5])
     m = u0.shape[0]
     size = m - 1
-    ws = workspace(ints, base, trig, terms, weights)
+    # the work arrays, made here and lent to _continue (which borrows them: compiled_borrow)
+    scratch = (np.empty((size, m)), np.zeros(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m),
+               np.zeros(m), np.zeros(m))
+    return _continue(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window,
+                     workspace(ints, base, trig, terms, weights), buffers(m, size), np.empty(m), np.empty((m, m)),
+                     scratch, u0, t0, out_u, out_t, out_norm, out_scale, out_acc, out_corner)
+
+
+@numba.njit(cache=False)
+def _continue(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF, scratch, u0, t0,
+              out_u, out_t, out_norm, out_scale, out_acc, out_corner):
+    """:func:`continue_kernel`'s work (its modes) on the work arrays it made
+    (``scratch``: the start tangent's matrix and reference, then ``u1, t1, u_pred, u_prev, t_prev, curve,
+    cubic``), every array borrowed for the call (:func:`~rotorkit.periodic.compiled_borrow.borrowed`: the hot
+    calls below pass them without reference counts)."""
+    ints, fl, E, P, ED, M, base, varying, coef, window = borrowed((ints, fl, E, P, ED, M, base, varying, coef,
+                                                                     window))
+    ws, nb, F, JF, scratch, u0, t0 = borrowed((ws, nb, F, JF, scratch, u0, t0))
+    out_u, out_t, out_norm, out_scale, out_acc, out_corner = borrowed((out_u, out_t, out_norm, out_scale, out_acc,
+                                                                       out_corner))
+    A, reference, u1, t1, u_pred, u_prev, t_prev, curve, cubic = scratch
+    m = u0.shape[0]
+    size = m - 1
     if ints[9] == 2:  # Newton at the fixed parameter fl[11] from u0[:size] (unscaled): (converged, iterations)
         z = u0[:size].copy()
         ok, iterations, norm = solve_fixed(z, fl[11], rhs, jac, ints, fl, E, P, ED, M, base, varying, coef, window,
@@ -309,29 +331,6 @@ def continue_kernel(functions, ints, fl, E, P, ED, M, base, varying, coef, windo
         out_norm[0] = grazing_value(out_u, out_corner, ints[6], ints[8], rhs, jac, sw, ints, fl, E, P, ED, M, base,
                                     varying, coef, window, ws)
         return 0, 0
-    # the loop's work arrays, made here and lent to _continue (which borrows them: compiled_borrow)
-    scratch = (np.empty((size, m)), np.zeros(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m), np.empty(m),
-               np.zeros(m), np.zeros(m))
-    return _continue(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, buffers(m, size),
-                     np.empty(m), np.empty((m, m)), scratch, u0, t0, out_u, out_t, out_norm, out_scale, out_acc,
-                     out_corner)
-
-
-@numba.njit(cache=False)
-def _continue(rhs, jac, sw, ints, fl, E, P, ED, M, base, varying, coef, window, ws, nb, F, JF, scratch, u0, t0,
-              out_u, out_t, out_norm, out_scale, out_acc, out_corner):
-    """The continuation loop of :func:`continue_kernel` (its modes 0 and 1) on the work arrays it made
-    (``scratch``: the start tangent's matrix and reference, then ``u1, t1, u_pred, u_prev, t_prev, curve,
-    cubic``), every array borrowed for the call (:func:`~rotorkit.periodic.compiled_borrow.borrowed`: the hot
-    calls below pass them without reference counts)."""
-    ints, fl, E, P, ED, M, base, varying, coef, window = borrowed((ints, fl, E, P, ED, M, base, varying, coef,
-                                                                     window))
-    ws, nb, F, JF, scratch, u0, t0 = borrowed((ws, nb, F, JF, scratch, u0, t0))
-    out_u, out_t, out_norm, out_scale, out_acc, out_corner = borrowed((out_u, out_t, out_norm, out_scale, out_acc,
-                                                                       out_corner))
-    A, reference, u1, t1, u_pred, u_prev, t_prev, curve, cubic = scratch
-    m = u0.shape[0]
-    size = m - 1
     lo, hi = fl[3], fl[4]
     min_step, max_step = fl[7], fl[8]
     contact = ints[4] > 0

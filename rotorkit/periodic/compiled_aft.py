@@ -123,15 +123,15 @@ def workspace(ints, base, trig, terms, weights):
     """Work arrays of one kernel call (the frame at a speed, cached by its speed, and the AFT loop's buffers):
     ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights, V, acc, last)``; ``info`` holds the
     speed of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
-    ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G``, ``S`` the
-    Jacobian's sums, ``V`` (N, n) the last residual's velocities per unit base frequency, ``acc`` (N, n) its
+    ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G`` one instant's
+    force Jacobian entries, ``S`` (2 n^2, 2 (2H + 1)) their sums per entry, ``V`` (N, n) the last residual's velocities per unit base frequency, ``acc`` (N, n) its
     accelerations ``a(t_j, y_j)`` and ``last[0]`` its parameter (nan before the first)."""
     n, N = ints[0], ints[2]
     H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
             np.zeros(2 * n), np.empty((N, 2 * n)), np.empty(2 * n), np.empty(n), np.empty((N, n)),
             np.empty((2 * n, 2 * n)),
-            np.empty(2 * n * n), np.empty((2 * H2, 2 * n * n)), trig, terms, weights, np.empty((N, n)),
+            np.empty(2 * n * n), np.empty((2 * n * n, 2 * H2)), trig, terms, weights, np.empty((N, n)),
             np.empty((N, n)), np.full(1, np.nan))
 
 
@@ -153,9 +153,9 @@ def aft_tables(H2, N):
 
 def projection_terms(H2, N):
     """The AFT projection of the sampled force Jacobians, ``F_j`` (coordinates, entries ``G[j, :n n]``) and
-    ``V_j`` (velocities, ``G[j, n n:]``), from their sums ``S[2 m] = sum_j cos(m tau_j) G_j`` and
-    ``S[2 m + 1] = sum_j sin(m tau_j) G_j``, ``m = 0 ... 2H``: block ``(c, d)`` of
-    ``sum_j P[c, j] (E[j, d] F_j + w ED[j, d] V_j)`` is ``sum_t weights[c, d, t] S[terms[c, d, t]]`` (of the
+    ``V_j`` (velocities, ``G[j, n n:]``), from their sums ``S[:, 2 m] = sum_j cos(m tau_j) G_j`` and
+    ``S[:, 2 m + 1] = sum_j sin(m tau_j) G_j``, ``m = 0 ... 2H``: block ``(c, d)`` of
+    ``sum_j P[c, j] (E[j, d] F_j + w ED[j, d] V_j)`` is ``sum_t weights[c, d, t] S[:, terms[c, d, t]]`` (of the
     ``F`` entries for t = 0, 1, of the ``V`` entries times ``w`` for t = 2, 3).
 
     Basis function ``c``: ``cos(k tau)`` (c = 2k - 1, and c = 0 with k = 0) or ``sin(k tau)`` (c = 2k); a product
@@ -330,9 +330,9 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
         for c in range(size):
             J[r, c] = 0.0
     linear_blocks(K, C, M, omega, H, n, J)
-    for k in range(2 * H2):
-        for e in range(2 * nn):
-            S[k, e] = 0.0
+    for e in range(2 * nn):  # S[e, k]: per entry its sums, contiguous
+        for k in range(2 * H2):
+            S[e, k] = 0.0
     contact = False
     velocity = False  # whether some velocity entry (Fv) is nonzero
     for j in range(N):
@@ -362,28 +362,26 @@ def jacobian_at_states(jac, ints, E, M, ws, J):
                 continue
             if e >= nn:
                 velocity = True
+            se = S[e]
             for k in range(2 * H2):
-                S[k, e] += tj[k] * ge
+                se[k] += tj[k] * ge
     if contact:
         for c in range(H2):
             for d in range(H2):
-                tt, tw = terms[c, d], weights[c, d]
-                w0, w1, w2, w3 = tw[0], tw[1], tw[2], tw[3]
-                s0, s1, s2, s3 = S[tt[0]], S[tt[1]], S[tt[2]], S[tt[3]]
+                w0, w1, w2, w3 = weights[c, d, 0], weights[c, d, 1], weights[c, d, 2], weights[c, d, 3]
+                t0, t1, t2, t3 = terms[c, d, 0], terms[c, d, 1], terms[c, d, 2], terms[c, d, 3]
                 if velocity:
                     for i in range(n):
-                        row = J[c * n + i]
                         for l in range(n):
                             e = i * n + l
-                            row[d * n + l] -= ((w0 * s0[e] + w1 * s1[e])
-                                               + omega * (w2 * s2[nn + e] + w3 * s3[nn + e]))
+                            J[c * n + i, d * n + l] -= ((w0 * S[e, t0] + w1 * S[e, t1])
+                                                        + omega * (w2 * S[nn + e, t2] + w3 * S[nn + e, t3]))
                 else:  # the velocity sums are +0.0: the same value without reading them
                     v = omega * (w2 * 0.0 + w3 * 0.0)
                     for i in range(n):
-                        row = J[c * n + i]
                         for l in range(n):
                             e = i * n + l
-                            row[d * n + l] -= (w0 * s0[e] + w1 * s1[e]) + v
+                            J[c * n + i, d * n + l] -= (w0 * S[e, t0] + w1 * S[e, t1]) + v
 
 
 @numba.njit(cache=False)
