@@ -124,8 +124,9 @@ def workspace(ints, base, trig, terms, weights):
     ``(p, A0, K, C, info, zero, Y, a, g, f, Aj, G, S, trig, terms, weights, V, acc, last)``; ``info`` holds the
     speed of the frame in ``p``, ``A0``, ``K``, ``C``, its base frequency and period, and whether it is set;
     ``trig``, ``terms``, ``weights``: :func:`aft_tables` (made once per size, passed in), ``G`` one instant's
-    force Jacobian entries, ``S`` (2 n^2, 2 (2H + 1)) their sums per entry, ``V`` (N, n) the last residual's velocities per unit base frequency, ``acc`` (N, n) its
-    accelerations ``a(t_j, y_j)`` and ``last[0]`` its parameter (nan before the first)."""
+    force Jacobian entries, ``S`` (2 n^2, 2 (2H + 1)) their sums per entry, ``V`` (N, n) the last residual's
+    velocities per unit base frequency, ``acc`` (N, n) its accelerations ``a(t_j, y_j)`` and ``last[0]`` its
+    parameter (nan before the first)."""
     n, N = ints[0], ints[2]
     H2 = terms.shape[0]
     return (np.empty(base.shape[0]), np.empty((2 * n, 2 * n)), np.empty((n, n)), np.empty((n, n)), np.zeros(4),
