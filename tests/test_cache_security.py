@@ -146,6 +146,30 @@ def test_a_damaged_signed_numba_file_is_rebuilt_with_one_warning(fresh_cache, mo
         assert run() == pytest.approx(EXPECTED)  # repaired: the next process is quiet
 
 
+def test_a_ctrl_c_while_numba_writes_leaves_no_unsigned_file(fresh_cache, monkeypatch):
+    """Interrupted after numba wrote its files and before rotorkit signed them: they are removed quietly (they
+    may be partial), so the next process neither warns of planted files nor reads them."""
+    from numba.core import caching
+
+    save = caching.Cache.save_overload
+
+    def interrupted(self, *args, **kwargs):
+        save(self, *args, **kwargs)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(caching.Cache, "save_overload", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        run()
+    monkeypatch.setattr(caching.Cache, "save_overload", save)
+    folder = entry_of(fresh_cache) / "__pycache__"
+    assert folder.is_dir() and not any(folder.iterdir()), sorted(p.name for p in folder.iterdir())
+    forget(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        assert run() == pytest.approx(EXPECTED)
+    assert numba_files(entry_of(fresh_cache), ".nbi")  # saved and signed this time
+
+
 WRITER = """
 import sys, time
 from pathlib import Path

@@ -224,8 +224,9 @@ def store(key, source):
 # -- numba's cache files ------------------------------------------------------
 
 
-def _verify_numba_files(entry, folder=None):
-    """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature."""
+def _verify_numba_files(entry, folder=None, quiet=False):
+    """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature (with a
+    warning, unless ``quiet``: files this process was writing when it was interrupted)."""
     folder = entry / "__pycache__" if folder is None else folder
     private_dir(folder)
     secret = secret_key()
@@ -246,7 +247,7 @@ def _verify_numba_files(entry, folder=None):
         if not good:
             remove_path(path)
             removed.append(path.name)
-    if removed:
+    if removed and not quiet:
         warn_once(f"rotorkit cache: removed {len(removed)} file(s) from {folder} that rotorkit did not sign "
                   f"({', '.join(sorted(removed)[:3])}{', ...' if len(removed) > 3 else ''}: damaged, "
                   "left by an interrupted run or planted); numba compiles again", topic=("numba", str(folder)))
@@ -297,8 +298,12 @@ def _guard(dispatcher, entry, folder=None):
         try:
             with shared_lock(NUMBA_LOCK, folder=entry):  # its files are unsigned until signed just below
                 _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
-                save_overload(*args, **kwargs)
-                _sign_numba_files(entry, folder)
+                try:
+                    save_overload(*args, **kwargs)
+                    _sign_numba_files(entry, folder)
+                except BaseException:  # Ctrl-C while numba writes: what it wrote is unsigned, maybe partial
+                    _verify_numba_files(entry, folder, quiet=True)
+                    raise
         except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
             warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
                       f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
