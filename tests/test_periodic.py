@@ -212,6 +212,46 @@ def test_friction_rub_stability_from_the_rotating_frame():
         assert abs(circle_residual(b.parameter[i], b.harmonic_amplitude("x1", 1)[i], mu=0.05)) < 1e-8
 
 
+def contact_circle(W, mu):
+    """The complex amplitude of x on the smaller contact circle (closed form above) at speed W."""
+    r = [q for q in circle_roots(W, mu) if q > DELTA][0]
+    return M * E * W**2 / (K - M * W**2 + 1j * C * W + KR * (1 - DELTA / r) * (1 + 1j * mu))
+
+
+@pytest.mark.parametrize("mu", [0.05, 0.3])
+def test_neimark_sacker_points_located_where_the_rotating_frame_says(mu, monkeypatch):
+    """With friction the synchronous rub circle loses stability through a complex pair of multipliers: at a
+    Hopf point of the contact circle just past the grazing speed (light friction), or at the grazing itself
+    (the contact circle unstable from its first contact), and the unstable contact circle meets the stable
+    linear one at the grazing corner. Both Neimark-Sacker points are located on the branch (root finding
+    between its points, not an interpolation between points some rad/s apart). On the Python path, whose
+    corrector a trial step at a negative speed used to stop with a ParameterError (now a failed trial)."""
+    from scipy.optimize import brentq
+
+    monkeypatch.setenv("ROTORKIT_PERIODIC_COMPILED", "0")
+    b = periodic_response(rub_model(mu=mu).compile(backend="c"), speeds=SPEEDS, harmonics=3)
+    found = sorted(x.parameter for x in b.bifurcations if x.kind == "Neimark-Sacker")
+    assert len(found) == 2
+
+    def linear_radius_past_clearance(W):
+        return M * E * W**2 / abs(K - M * W**2 + 1j * C * W) - DELTA
+
+    wn = np.sqrt(K / M)
+    grazing_up, grazing_down = (brentq(linear_radius_past_clearance, a, b, xtol=1e-13)
+                                for a, b in ((SPEEDS[0], wn), (wn, SPEEDS[1])))
+
+    def growth(W):  # the largest rotating-frame multiplier's modulus less 1 on the contact circle
+        return np.max(np.abs(rotating_multipliers(W, contact_circle(W, mu), mu))) - 1.0
+
+    start = grazing_up * (1 + 1e-9)
+    hopf = grazing_up if growth(start) > 0 else brentq(growth, start, 100.0, xtol=1e-12)
+    assert found[0] == pytest.approx(hopf, rel=1e-7)
+    assert (hopf > grazing_up) == (mu == 0.05)  # one case of each kind
+    fold = next(x.parameter for x in b.bifurcations if x.kind == "fold")
+    assert growth(0.5 * (grazing_down + fold)) > 0  # the smaller contact circle is unstable up to the corner
+    assert found[1] == pytest.approx(grazing_down, rel=1e-9)
+
+
 def test_continuation_in_the_clearance_and_the_point_budget(rub_system):
     """At 125 rad/s, clearance from 0.2 mm down: every point lies on the circle of its own clearance; where
     the clearance reaches the linear circle's radius the branch turns back at a grazing corner onto a

@@ -486,6 +486,7 @@ def _branch(problem, points, stability):
     """The :class:`Branch` of the raw continuation output: error estimates, stability and bifurcations."""
     from ..periodic.branch import Bifurcation, Branch
     from ..periodic.fastpath import point_data
+    from ..periodic import crossings
     from ..periodic.folds import grazing_point, turning_point
     from ..periodic.stability import STABILITY_TOL, classify_crossing, hill_multipliers, monodromy_multipliers
 
@@ -528,25 +529,29 @@ def _branch(problem, points, stability):
         magnitude = np.abs(mu)
         stable = (magnitude <= 1.0 + STABILITY_TOL).all(axis=1)  # is_stable per point
         unstable = (magnitude > 1.0 + STABILITY_TOL).sum(axis=1)  # classify_crossing's count
+    def multipliers_at(z, value):  # of a solution between two points (the problem's unknowns), as above
+        frame = problem.frame(value)
+        z = np.ravel(z) if full is hb else np.ravel(hb.expand(z, frame))
+        return hill_multipliers(full, z, frame) if stability == "hill" else monodromy_multipliers(full, z, frame)[0]
+
     bifurcations = []
     along = np.asarray(points.tangents)[:, -1]  # the parameter's component of each tangent
     turns = along[:-1] * along[1:] < 0
     changes = None if unstable is None else unstable[:-1] != unstable[1:]
     events = turns if changes is None else turns | changes
     for i in np.flatnonzero(events).tolist():
+        fold = None
         if turns[i]:
             grazing = hb.contact and not np.array_equal(problem.contact_state(raw[i], lam[i]),
                                                          problem.contact_state(raw[i + 1], lam[i + 1]))
-            extreme = grazing_point(problem, lam, raw, i) if grazing else turning_point(lam, Z, i)
+            extreme = fold = grazing_point(problem, lam, raw, i) if grazing else turning_point(lam, Z, i)
             bifurcations.append(Bifurcation("grazing fold" if grazing else "fold", i,
                                             extreme))
         if changes is not None and changes[i]:
             kind = classify_crossing(mu[i], mu[i + 1])  # None unless the count of unstable multipliers changes
             if kind in ("period doubling", "Neimark-Sacker"):
-                a = np.max(np.abs(mu[i])) - 1.0
-                b = np.max(np.abs(mu[i + 1])) - 1.0
-                w = a / (a - b) if a != b else 0.5
-                bifurcations.append(Bifurcation(kind, i, float(lam[i] + w * (lam[i + 1] - lam[i]))))
+                bifurcations.append(Bifurcation(kind, i, crossings.crossing_point(problem, lam, raw, i, mu[i], mu[i + 1],
+                                                                        multipliers_at, fold=fold)))
     return Branch(
         parameter_name=problem.parameter, parameter=lam, coefficients=Z, omega=np.array(omega),
         coordinate_names=hb.coordinate_names, speed_parameter=hb.speed_parameter, harmonics=H,

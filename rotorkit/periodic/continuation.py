@@ -92,13 +92,22 @@ class ContinuationProblem:
         self._frames = {}
 
     def frame(self, lam):
-        """The :class:`~rotorkit.periodic.hb.Frame` at ``parameter = lam`` (a few kept)."""
+        """The :class:`~rotorkit.periodic.hb.Frame` at ``parameter = lam`` (a few kept).
+
+        Raises ConvergenceError where the model refuses the value (a spin speed at or below zero): a predictor
+        or a Newton trial that lands there fails as one that does not converge, and the step is shortened
+        (the values a user gives are checked before, with their own errors)."""
         lam = float(lam)
         found = self._frames.get(lam)
         if found is None:
+            try:
+                frame = self.hb.frame({self.parameter: lam})
+            except ParameterError as exc:
+                raise ConvergenceError(f"a solution at {self.parameter}={lam:g} cannot be sought: {exc}",
+                                       parameter=lam) from None
             if len(self._frames) >= 16:
                 self._frames.pop(next(iter(self._frames)))
-            found = self._frames[lam] = self.hb.frame({self.parameter: lam})
+            found = self._frames[lam] = frame
         return found
 
     def residual(self, z, lam, jacobian=True):
