@@ -24,7 +24,9 @@ class Bifurcation:
     index : int
         The point after which it lies.
     parameter : float
-        Its location (SI), interpolated between points ``index`` and ``index + 1``.
+        Its location (SI) between points ``index`` and ``index + 1``: a fold at the vertex of the parabola
+        through the points around it, a grazing fold and a multiplier crossing solved on the branch
+        (:mod:`rotorkit.periodic.folds`, :mod:`rotorkit.periodic.crossings`).
     """
 
     kind: str
