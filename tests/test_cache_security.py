@@ -170,6 +170,52 @@ def test_a_ctrl_c_while_numba_writes_leaves_no_unsigned_file(fresh_cache, monkey
     assert numba_files(entry_of(fresh_cache), ".nbi")  # saved and signed this time
 
 
+KILLED_WHILE_SAVING = """
+import os, signal
+from numba.core import caching
+import rotorkit as rk
+
+save = caching.Cache.save_overload
+
+
+def killed(self, *args, **kwargs):  # numba has written its files; rotorkit has not signed them yet
+    save(self, *args, **kwargs)
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+caching.Cache.save_overload = killed
+model = rk.Model([rk.Rotor(name="R", stations=(1,), speed=50.0),
+                  rk.Disk(station=1, mass=1.0, radius=0.1, eccentricity=1e-4),
+                  rk.ElasticSupport(station=1, stiffness=1e4, damping=2.0)])
+model.compile(backend="numba").rhs(0.0, [1e-3, 0.0, 0.0, 0.0])
+"""
+
+
+@POSIX
+def test_files_of_a_process_killed_while_saving_are_removed_without_a_warning(fresh_cache, monkeypatch):
+    """SIGKILL (the OOM killer, a sweep test killing its worker) between numba's writing and rotorkit's signing
+    leaves unsigned files and the saving mark: the next process removes them quietly and compiles; files
+    without that mark are still removed with a warning (the other tests here)."""
+    import signal
+    import subprocess
+    import sys
+
+    child = subprocess.run([sys.executable, "-c", KILLED_WHILE_SAVING], capture_output=True, text=True, timeout=300,
+                           env={**os.environ, "ROTORKIT_CACHE_DIR": str(fresh_cache)})
+    assert child.returncode == -signal.SIGKILL, child.stderr
+    entry = entry_of(fresh_cache)
+    assert (entry / cache.SAVING).exists() and numba_files(entry, ".nbi")  # unsigned: not in numba.sig.json
+    forget(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        assert run() == pytest.approx(EXPECTED)
+    assert not (entry / cache.SAVING).exists()
+    forget(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        assert run() == pytest.approx(EXPECTED)  # saved and signed this time: loaded as it is
+
+
 WRITER = """
 import sys, time
 from pathlib import Path

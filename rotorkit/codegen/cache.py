@@ -8,6 +8,7 @@ is stored under the model's ``structure_key``::
     <cache>/models/<key>/meta.json       format, key, HMAC-SHA256 of rhs.py
     <cache>/models/<key>/__pycache__/    numba's machine code (*.nbi, *.nbc)
     <cache>/models/<key>/numba.sig.json  HMAC of every file in __pycache__
+    <cache>/models/<key>/numba.saving    present while a process writes and signs numba's files
     <cache>/shared/<name>/               numba's cache of rotorkit's own compiled code (the
                                          integration loop), with its numba.sig.json
     <cache>/shared/<name>.lock           held (flock) while a process loads or compiles it
@@ -22,7 +23,10 @@ What is trusted
   every file in ``__pycache__`` must carry a valid HMAC in
   ``numba.sig.json``; any other file is removed first (planted, damaged or
   left by a crash) and numba recompiles. After numba writes, the files are
-  signed. If numba would put its cache anywhere else (``NUMBA_CACHE_DIR``),
+  signed. A process writes ``numba.saving`` before numba writes and removes
+  it once the files are signed (all under the entry's lock): found by the
+  next process, it tells that the unsigned files are those of a process
+  killed while saving (SIGKILL cannot be caught), removed without a warning. If numba would put its cache anywhere else (``NUMBA_CACHE_DIR``),
   the model is compiled without numba's disk cache.
 * Every folder is created ``0o700`` whatever the umask, files ``0o600``. The
   cache folder, ``models/`` and each entry must belong to this user and not
@@ -59,6 +63,8 @@ __all__ = ["cache_dir", "load", "store", "clear", "info", "jit", "jit_shared", "
 
 FORMAT = "rotorkit-model-cache-2"
 SIGNATURES = "numba.sig.json"
+#: written (the saving process's pid) before numba saves, removed once its files are signed
+SAVING = "numba.saving"
 #: the lock (``<entry>/<NUMBA_LOCK>.lock``) a process holds while it verifies and reads, or writes and signs,
 #: numba's cache files of an entry
 NUMBA_LOCK = "numba_cache"
@@ -226,9 +232,11 @@ def store(key, source):
 
 def _verify_numba_files(entry, folder=None, quiet=False):
     """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature (with a
-    warning, unless ``quiet``: files this process was writing when it was interrupted)."""
+    warning, unless ``quiet``: files this process was writing when it was interrupted, or a process that
+    left its :data:`SAVING` mark, killed while saving). Called with the entry's lock held."""
     folder = entry / "__pycache__" if folder is None else folder
     private_dir(folder)
+    interrupted = (entry / SAVING).exists()  # under the lock no process is saving: its writer died mid-save
     secret = secret_key()
     try:
         signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
@@ -247,7 +255,9 @@ def _verify_numba_files(entry, folder=None, quiet=False):
         if not good:
             remove_path(path)
             removed.append(path.name)
-    if removed and not quiet:
+    if interrupted:
+        remove_path(entry / SAVING)
+    if removed and not (quiet or interrupted):
         warn_once(f"rotorkit cache: removed {len(removed)} file(s) from {folder} that rotorkit did not sign "
                   f"({', '.join(sorted(removed)[:3])}{', ...' if len(removed) > 3 else ''}: damaged, "
                   "left by an interrupted run or planted); numba compiles again", topic=("numba", str(folder)))
@@ -298,12 +308,14 @@ def _guard(dispatcher, entry, folder=None):
         try:
             with shared_lock(NUMBA_LOCK, folder=entry):  # its files are unsigned until signed just below
                 _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
+                atomic_write_text(entry / SAVING, str(os.getpid()), mode=0o600)  # a kill from here on: no warning
                 try:
                     save_overload(*args, **kwargs)
                     _sign_numba_files(entry, folder)
                 except BaseException:  # Ctrl-C while numba writes: what it wrote is unsigned, maybe partial
                     _verify_numba_files(entry, folder, quiet=True)
                     raise
+                remove_path(entry / SAVING)
         except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
             warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
                       f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
