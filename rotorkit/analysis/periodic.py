@@ -485,8 +485,8 @@ def period_doubled_branch(model_or_system, branch, *, stop=None, bifurcation=Non
 def _branch(problem, points, stability):
     """The :class:`Branch` of the raw continuation output: error estimates, stability and bifurcations."""
     from ..periodic.branch import Bifurcation, Branch
+    from ..periodic.crossings import crossing_point
     from ..periodic.fastpath import point_data
-    from ..periodic import crossings
     from ..periodic.folds import grazing_point, turning_point
     from ..periodic.stability import STABILITY_TOL, classify_crossing, hill_multipliers, monodromy_multipliers
 
@@ -529,6 +529,7 @@ def _branch(problem, points, stability):
         magnitude = np.abs(mu)
         stable = (magnitude <= 1.0 + STABILITY_TOL).all(axis=1)  # is_stable per point
         unstable = (magnitude > 1.0 + STABILITY_TOL).sum(axis=1)  # classify_crossing's count
+
     def multipliers_at(z, value):  # of a solution between two points (the problem's unknowns), as above
         frame = problem.frame(value)
         z = np.ravel(z) if full is hb else np.ravel(hb.expand(z, frame))
@@ -550,8 +551,8 @@ def _branch(problem, points, stability):
         if changes is not None and changes[i]:
             kind = classify_crossing(mu[i], mu[i + 1])  # None unless the count of unstable multipliers changes
             if kind in ("period doubling", "Neimark-Sacker"):
-                bifurcations.append(Bifurcation(kind, i, crossings.crossing_point(problem, lam, raw, i, mu[i], mu[i + 1],
-                                                                        multipliers_at, fold=fold)))
+                where = crossing_point(problem, lam, raw, i, mu[i], mu[i + 1], multipliers_at, fold=fold)
+                bifurcations.append(Bifurcation(kind, i, where))
     return Branch(
         parameter_name=problem.parameter, parameter=lam, coefficients=Z, omega=np.array(omega),
         coordinate_names=hb.coordinate_names, speed_parameter=hb.speed_parameter, harmonics=H,

@@ -26,7 +26,8 @@ What is trusted
   signed. A process writes ``numba.saving`` before numba writes and removes
   it once the files are signed (all under the entry's lock): found by the
   next process, it tells that the unsigned files are those of a process
-  killed while saving (SIGKILL cannot be caught), removed without a warning. If numba would put its cache anywhere else (``NUMBA_CACHE_DIR``),
+  killed while saving (SIGKILL cannot be caught), removed without a
+  warning. If numba would put its cache anywhere else (``NUMBA_CACHE_DIR``),
   the model is compiled without numba's disk cache.
 * Every folder is created ``0o700`` whatever the umask, files ``0o600``. The
   cache folder, ``models/`` and each entry must belong to this user and not

@@ -7,9 +7,10 @@ parameter, each value solved by Newton at that parameter
 superlinear where the modulus is smooth, like bisection where it jumps (a friction rub's circle that loses
 stability the instant contact begins). Where the branch also turns between the two points (a fold, or the
 corner of a grazing fold, at ``fold``) each piece is followed from its point to the fold at fixed parameters
-(in a few steps, each solved from the piece's nearest solutions): the crossing lies on the piece whose modulus changes sign between its point
-and the fold, else at the fold itself (a grazing corner joining an unstable piece to a stable one). Where a
-solve fails or lands far from the branch the linear interpolation of the two points' moduli is kept.
+(in a few steps, each solved from the piece's nearest solutions, in its own contact state at a grazing
+corner): the crossing lies on the piece whose modulus changes sign between its point and the fold, else at
+the fold itself (a grazing corner joining an unstable piece to a stable one). Where a solve fails or lands
+far from the branch the linear interpolation of the two points' moduli is kept.
 """
 
 from __future__ import annotations
@@ -87,7 +88,7 @@ def crossing_point(problem, lam, Z, i, before, after, multipliers_at, *, fold=No
     grazing = states is not None and not np.array_equal(*states)
     for side, (near, far, g_near) in enumerate(((i, i - 1, ga), (i + 1, i + 2, gb))):
         known = [(float(lam[near]), Z[near])]
-        if 0 <= far < len(lam) and lam[far] != lam[near] and (far - near) * (i + 0.5 - near) < 0:
+        if 0 <= far < len(lam) and lam[far] != lam[near]:  # the piece's next point away from the fold
             known.append((float(lam[far]), Z[far]))
         state = states[side] if grazing else None
 
