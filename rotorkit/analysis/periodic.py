@@ -459,7 +459,8 @@ def period_doubled_branch(model_or_system, branch, *, stop=None, bifurcation=Non
     w = (lam - branch.parameter[i]) / (branch.parameter[i + 1] - branch.parameter[i])
     guess = ((1 - w) * branch.coefficients[i] + w * branch.coefficients[i + 1]).ravel()
     z1 = newton(lambda z, jac: hb1.residual(z, frame1, jacobian=jac), guess, tol=tol, scale=frame1.scale,
-                max_iterations=50, what=f"the synchronous solution at the period doubling {parameter}={lam:g}")[0]
+                max_iterations=50, what=f"the synchronous solution at the period doubling {parameter}={lam:g}",
+                lazy_jacobian=True)[0]
     samples, multiplier = critical_direction(hb1, z1, frame1)
     hb2 = HarmonicBalance(system, speed_parameter=branch.speed_parameter, harmonics=2 * H, subharmonic=2 * nu,
                           samples=2 * hb1.samples)

@@ -127,7 +127,7 @@ class ContinuationProblem:
         if found is None:
             frame = self.frame(lam)
             return newton(lambda z, jac: self.hb.residual(z, frame, jacobian=jac), guess, tol=tol,
-                          scale=frame.scale, max_iterations=max_iterations)[0]
+                          scale=frame.scale, max_iterations=max_iterations, lazy_jacobian=True)[0]
         z, converged = found
         if not converged:
             raise ConvergenceError(f"harmonic balance: no convergence in {max_iterations} Newton iterations at "
@@ -408,7 +408,8 @@ def _at_bound(problem, before, after, bound, opts):
     frame = problem.frame(bound)
     try:
         z = newton(lambda z, jac: problem.hb.residual(z, frame, jacobian=jac), guess, tol=opts.tol,
-                         scale=frame.scale, max_iterations=opts.max_iterations, what="solution at the bound")[0]
+                   scale=frame.scale, max_iterations=opts.max_iterations, what="solution at the bound",
+                   lazy_jacobian=True)[0]
     except ConvergenceError:
         return None
     return z if math.isfinite(float(np.max(np.abs(z)))) else None

@@ -468,10 +468,11 @@ def newton_from_linear(fun, z0, *, tol, scale, max_iterations=30, what="harmonic
     ``max(tol, 1e-6)`` on the way). At ``s = 1`` it is the problem itself,
     solved to ``tol``.
 
-    Returns and raises as :func:`newton` (the iteration count summed).
+    Returns and raises as :func:`newton` with ``lazy_jacobian`` (no Jacobian at the converged point: a solution
+    at a fixed parameter needs none; the iterates are the same), the iteration count summed.
     """
     try:
-        return newton(fun, z0, tol=tol, scale=scale, max_iterations=max_iterations, what=what)
+        return newton(fun, z0, tol=tol, scale=scale, max_iterations=max_iterations, what=what, lazy_jacobian=True)
     except ConvergenceError as exc:
         first = exc
     z0 = np.array(z0, dtype=float)
@@ -491,7 +492,8 @@ def newton_from_linear(fun, z0, *, tol, scale, max_iterations=30, what="harmonic
         guess = z if previous is None else z + (z - previous[0]) * (target - s) / (s - previous[1])
         try:
             z_new, iterations = newton(blended(target), guess, tol=tol if target == 1.0 else max(tol, 1e-6),
-                                       scale=scale, max_iterations=max_iterations, what=what)[:2]
+                                       scale=scale, max_iterations=max_iterations, what=what,
+                                       lazy_jacobian=True)[:2]
         except (ConvergenceError, np.linalg.LinAlgError):
             ds *= 0.5
             if ds < min_step:
