@@ -237,8 +237,8 @@ def test_neimark_sacker_points_located_where_the_rotating_frame_says(mu, monkeyp
         return M * E * W**2 / abs(K - M * W**2 + 1j * C * W) - DELTA
 
     wn = np.sqrt(K / M)
-    grazing_up, grazing_down = (brentq(linear_radius_past_clearance, a, b, xtol=1e-13)
-                                for a, b in ((SPEEDS[0], wn), (wn, SPEEDS[1])))
+    grazing_up, grazing_down = (brentq(linear_radius_past_clearance, lo, hi, xtol=1e-13)
+                                for lo, hi in ((SPEEDS[0], wn), (wn, SPEEDS[1])))
 
     def growth(W):  # the largest rotating-frame multiplier's modulus less 1 on the contact circle
         return np.max(np.abs(rotating_multipliers(W, contact_circle(W, mu), mu))) - 1.0
