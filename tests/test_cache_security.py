@@ -170,6 +170,28 @@ def test_a_ctrl_c_while_numba_writes_leaves_no_unsigned_file(fresh_cache, monkey
     assert numba_files(entry_of(fresh_cache), ".nbi")  # saved and signed this time
 
 
+def test_files_compiled_after_the_cache_folder_changed_are_signed_with_their_own_caches_key(fresh_cache, tmp_path,
+                                                                                           monkeypatch):
+    """A process keeps the modules it has loaded when ROTORKIT_CACHE_DIR changes (a test's temporary cache);
+    numba then compiles their functions into their own entries, which must be signed with the key of the cache
+    holding them: the next process that uses that cache loads them without a warning of unsigned files."""
+    from rotorkit.system import jacobian_module
+
+    model = jeffcott()
+    system = model.compile(backend="numba")
+    entry = jacobian_module(model, "unrolled").__rotorkit_entry__  # generated and stored, numba has not compiled
+    assert entry.parent.parent == fresh_cache and not any((entry / "__pycache__").iterdir())
+    monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path / "another cache"))
+    system.jacobian(0.0, Y)  # numba compiles jac and saves it into the first cache's entry
+    monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(fresh_cache))
+    assert numba_files(entry, ".nbc")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        with cache.shared_lock(cache.NUMBA_LOCK, folder=entry):
+            cache._verify_numba_files(entry)  # what the next process does before numba reads them
+    assert numba_files(entry, ".nbc") and numba_files(entry, ".nbi")
+
+
 KILLED_WHILE_SAVING = """
 import os, signal
 from numba.core import caching

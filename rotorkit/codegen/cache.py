@@ -12,7 +12,9 @@ is stored under the model's ``structure_key``::
     <cache>/shared/<name>/               numba's cache of rotorkit's own compiled code (the
                                          integration loop), with its numba.sig.json
     <cache>/shared/<name>.lock           held (flock) while a process loads or compiles it
-    <cache>/secret.key                   a random key, readable by this user only
+    <cache>/secret.key                   a random key, readable by this user only; everything
+                                         in <cache> is signed and checked with it (even when a
+                                         process has since moved to another ROTORKIT_CACHE_DIR)
 
 What is trusted
 ---------------
@@ -71,9 +73,10 @@ SAVING = "numba.saving"
 NUMBA_LOCK = "numba_cache"
 
 
-def secret_key():
-    """This user's random signing key (created on first use, mode 0600); OSError if it cannot be kept."""
-    path = cache_dir() / "secret.key"
+def secret_key(root=None):
+    """This user's random signing key of the cache folder ``root`` (default :func:`cache_dir`; created on first
+    use, mode 0600); OSError if it cannot be kept."""
+    path = Path(root if root is not None else cache_dir()) / "secret.key"
     try:
         key = read_data(path, what="cache metadata", max_bytes=64)
         if len(key) == 32 and is_private(path) and not path.stat().st_mode & 0o077:
@@ -85,6 +88,16 @@ def secret_key():
     key = os.urandom(32)
     atomic_write_bytes(path, key, mode=0o600)
     return key
+
+
+def entry_key(entry):
+    """The signing key of the cache that holds ``entry`` (``<cache>/models/<key>`` or ``<cache>/shared/<name>``).
+
+    Not the key of today's :func:`cache_dir`: a process keeps the modules it has loaded (``system._MODULES``) when
+    ``ROTORKIT_CACHE_DIR`` changes (a test's temporary cache), and what it compiles for them later is written into
+    their own entries, so it must be signed with their cache's key, else the next process finds it unsigned.
+    """
+    return secret_key(Path(entry).parent.parent)
 
 
 def _digest(source, secret=None):
@@ -132,7 +145,7 @@ def compile_verified(source, filename, entry=None, name="rhs"):
 
     path = Path(entry) / f"{name}.{sys.implementation.cache_tag}.code"
     try:
-        secret = secret_key()
+        secret = entry_key(entry)
     except OSError:
         return compile(source, filename, "exec", dont_inherit=True)
     try:
@@ -238,7 +251,7 @@ def _verify_numba_files(entry, folder=None, quiet=False):
     folder = entry / "__pycache__" if folder is None else folder
     private_dir(folder)
     interrupted = (entry / SAVING).exists()  # under the lock no process is saving: its writer died mid-save
-    secret = secret_key()
+    secret = entry_key(entry)
     try:
         signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
         signed = signed if isinstance(signed, dict) else {}
@@ -265,7 +278,7 @@ def _verify_numba_files(entry, folder=None, quiet=False):
 
 
 def _sign_numba_files(entry, folder=None):
-    secret = secret_key()
+    secret = entry_key(entry)
     folder = entry / "__pycache__" if folder is None else folder
     signed = {}
     for path in folder.iterdir():

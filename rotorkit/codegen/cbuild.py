@@ -134,13 +134,16 @@ def library(folder, name, source):
     from . import cache
 
     source_bytes = source.encode("utf-8")
-    if folder is None:
+    secret = None
+    if folder is None:  # a model built in memory: build in a new folder, trust only what this process builds
         folder = Path(tempfile.mkdtemp(prefix="rotorkit-c-"))
-    folder = Path(folder)
-    try:
-        secret = cache.secret_key()
-    except OSError:
-        secret = os.urandom(32)  # no usable cache: build here, trust only what this process builds
+    else:
+        folder = Path(folder)
+        try:
+            secret = cache.entry_key(folder)  # folder: <cache>/models/<key> or <cache>/shared/<name>
+        except OSError:
+            pass  # no usable cache: as in memory
+    secret = secret or os.urandom(32)
     with cache.shared_lock(name, folder=folder):  # <folder>/<name>.lock: one builder at a time, others then load
         path = _verified(folder, name, source_bytes, secret) or _compile(folder, name, source_bytes, secret)
         return ctypes.CDLL(str(path))
