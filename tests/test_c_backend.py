@@ -150,9 +150,12 @@ def test_auto_falls_back_when_the_compiler_fails(monkeypatch, tmp_path):
     monkeypatch.setenv(cbuild.VARIABLE, str(broken))
     monkeypatch.setenv("ROTORKIT_CACHE_DIR", str(tmp_path / "cache"))
     monkeypatch.delenv("ROTORKIT_BACKEND", raising=False)
+    from rotorkit import system as system_module
     from rotorkit.codegen import cmodel as cm
 
     monkeypatch.setattr(cm, "_LOADED", {})
+    monkeypatch.setattr(system_module, "_MODULES", {})  # else a module of this structure loaded earlier, whose
+    # entry (in the session's cache) holds a C library built and signed before, is used: nothing to compile
     model = rk.Model([rk.Rotor(name="R", stations=(1,), speed=100.0), Disk(station=1, mass=2.0, radius=0.1),
                       rk.ElasticSupport(station=1, stiffness=2e4)], name="c_backend_fallback")
     with pytest.warns(RuntimeWarning, match="(?s)the c back end failed .*internal error"):
