@@ -193,7 +193,7 @@ def disk_full(exc, folder, what, advice="free space there, or write to a folder 
                                     f"(file system mounted at {mount}, {space}); {advice}")
 
 
-def atomic_write_bytes(path, data, *, mode=None, durable=True):
+def atomic_write_bytes(path, data, *, mode=None, durable=True, exclusive=False):
     """Write ``data`` to ``path`` through a temporary file in the same folder and a rename.
 
     ``mode`` (e.g. ``0o600``) sets the file's permissions; by default they
@@ -201,6 +201,10 @@ def atomic_write_bytes(path, data, *, mode=None, durable=True):
     before the rename: the file is still whole or absent after the process is
     killed, but after a power cut it may be empty (for files whose reader
     checks them and recomputes a damaged one, such as sweep points).
+    ``exclusive=True`` writes it only if ``path`` does not exist (a hard link
+    instead of the rename: of two processes creating it at once, one writes
+    it and the other is told so); returns whether it was written (always True
+    without ``exclusive``; on a file system without hard links it is replaced).
     """
     path = check_path(path, "file")
     _refuse_non_regular(path, "the file")
@@ -217,14 +221,24 @@ def atomic_write_bytes(path, data, *, mode=None, durable=True):
             fh.flush()
             if durable:
                 os.fsync(fh.fileno())
+        if exclusive:
+            try:
+                os.link(tmp, path)
+                return True
+            except FileExistsError:
+                return False
+            except OSError:  # no hard links here (some network or FAT file systems)
+                pass
         os.replace(tmp, path)
+        return True
     except BaseException as exc:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
         full = disk_full(exc, path.parent, str(path))
         if full is not exc:
             raise full from exc
         raise
+    finally:
+        if os.path.exists(tmp):  # an error, or the link made (the file has its own name now)
+            os.unlink(tmp)
 
 
 def atomic_write_text(path, text, *, mode=None):

@@ -465,3 +465,30 @@ def test_cached_bytecode_of_another_source_is_not_used(tmp_path, monkeypatch):
     again = {}
     exec(cache.compile_verified("X = 2\n", "m.py", entry, "m"), again)  # now from the file
     assert (first["X"], second["X"], again["X"]) == (1, 2, 2)
+
+
+def _first_key(root, barrier, queue):
+    barrier.wait()  # both look for the key at once
+    queue.put(cache.secret_key(root))
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="forked processes")
+def test_processes_that_start_on_a_new_cache_at_once_agree_on_its_key(tmp_path):
+    """A run and the loop it compiles in another process (or two children of a test) that both find no key
+    must not each create their own: what the loser signed would be removed as unsigned by every later process
+    (the intermittent 'did not sign' warning of CI)."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("fork")
+    for attempt in range(10):
+        root = tmp_path / f"cache{attempt}"
+        root.mkdir(mode=0o700)
+        barrier, queue = context.Barrier(2), context.Queue()
+        processes = [context.Process(target=_first_key, args=(root, barrier, queue)) for _ in range(2)]
+        for process in processes:
+            process.start()
+        keys = [queue.get(timeout=60), queue.get(timeout=60)]
+        for process in processes:
+            process.join(timeout=60)
+        assert keys[0] == keys[1] == (root / "secret.key").read_bytes()
+        assert not [p.name for p in root.iterdir() if p.name != "secret.key"]  # no temporary file left

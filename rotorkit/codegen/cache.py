@@ -75,19 +75,26 @@ NUMBA_LOCK = "numba_cache"
 
 def secret_key(root=None):
     """This user's random signing key of the cache folder ``root`` (default :func:`cache_dir`; created on first
-    use, mode 0600); OSError if it cannot be kept."""
+    use, mode 0600); OSError if it cannot be kept.
+
+    Processes that start on a new cache at once (a run and the loop it compiles in another process, test
+    workers' children) agree on one key: a new key is published only where none exists (a hard link), and the
+    one that loses reads the winner's. Were each to keep its own, what the others signed would be removed as
+    unsigned by every later process."""
     path = Path(root if root is not None else cache_dir()) / "secret.key"
-    try:
-        key = read_data(path, what="cache metadata", max_bytes=64)
-        if len(key) == 32 and is_private(path) and not path.stat().st_mode & 0o077:
+    for _attempt in range(3):
+        try:
+            key = read_data(path, what="cache metadata", max_bytes=64)
+            if len(key) == 32 and is_private(path) and not path.stat().st_mode & 0o077:
+                return key
+        except (OSError, ValueError):  # missing; ValueError: not a regular file, or too long
+            pass
+        if os.path.lexists(path):
+            remove_path(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
+        key = os.urandom(32)
+        if atomic_write_bytes(path, key, mode=0o600, exclusive=True):
             return key
-    except (OSError, ValueError):  # ValueError: not a regular file, or too long
-        pass
-    if os.path.lexists(path):
-        remove_path(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
-    key = os.urandom(32)
-    atomic_write_bytes(path, key, mode=0o600)
-    return key
+    raise OSError(f"rotorkit cache: the signing key {path} keeps changing under this process")
 
 
 def entry_key(entry):
