@@ -1,4 +1,5 @@
-"""The figures of ``rotorkit run``, drawn in a helper process that imports matplotlib while the run simulates.
+"""The figures of ``rotorkit run`` (and the files of ``rotorkit periodic``), drawn in a helper process that
+imports matplotlib while the run simulates.
 
 Importing matplotlib and drawing the first figure take about 0.5 s, as long
 as a warm run's simulation. :class:`FigureProcess` is forked at the very
@@ -24,7 +25,8 @@ written into the run's staging folder, and the paths come back.
 import os
 import sys
 
-__all__ = ["write_figures", "figure_signals", "FigureProcess", "PROCESS_VARIABLE"]
+__all__ = ["write_figures", "figure_signals", "FigureProcess", "PROCESS_VARIABLE", "warm_up_figures",
+           "warm_up_netcdf"]
 
 #: environment variable: ``0`` draws the figures in the run's own process
 PROCESS_VARIABLE = "ROTORKIT_FIGURE_PROCESS"
@@ -105,9 +107,12 @@ class FigureProcess:
         self._answered = False
 
     @classmethod
-    def start(cls):
+    def start(cls, warm_ups=None):
         """Fork the helper, or return None: no ``fork``, one core, ``$ROTORKIT_FIGURE_PROCESS`` = 0, or other
-        threads running here (forking them could copy a lock one of them holds; the command line has none)."""
+        threads running here (forking them could copy a lock one of them holds; the command line has none).
+
+        ``warm_ups``: what the helper runs while it waits for the job (default: the imports and a small figure
+        of :func:`write_figures`'s kinds); an exception in one is raised once the job comes."""
         import multiprocessing
         import threading
 
@@ -120,7 +125,8 @@ class FigureProcess:
         here, there = context.Pipe()
         for stream in (sys.stdout, sys.stderr):  # nothing buffered may be written twice
             stream.flush()
-        process = context.Process(target=_serve, args=(there, here), name="rotorkit-figures", daemon=True)
+        process = context.Process(target=_serve, args=(there, here, warm_ups or (warm_up_figures,)), name="rotorkit-figures",
+                                  daemon=True)
         process.start()
         there.close()
         return cls(process, here)
@@ -128,17 +134,23 @@ class FigureProcess:
     def submit(self, result, outputs, out, measurement=None):
         """Send the job: draw into the folder ``out``. False (nothing sent: draw here) if it cannot be pickled or
         the helper is gone."""
+        return self.call("write_figures", result if measurement is not None else _slim(result, outputs), outputs,
+                         out, measurement)
+
+    def call(self, function, *args):
+        """Send the job ``function(*args)`` (a module-level function, or the name of one of this module, looked up
+        in the helper); :meth:`collect` returns its value. False (nothing sent: run it here) if it cannot be
+        pickled or the helper is gone."""
         import pickle
 
-        job = (result if measurement is not None else _slim(result, outputs), outputs, out, measurement)
         try:
-            self._connection.send(job)  # pickled whole before anything is written to the pipe
+            self._connection.send((function, args))  # pickled whole before anything is written to the pipe
         except (pickle.PicklingError, TypeError, AttributeError, BrokenPipeError):  # e.g. a lambda in OUTPUTS
             return False
         return True
 
     def collect(self):
-        """The paths the helper wrote; its exception raised here if it failed."""
+        """The job's value (the paths of the figures the helper wrote); its exception raised here if it failed."""
         try:
             status, value, trace = self._connection.recv()
         except (EOFError, OSError):
@@ -169,21 +181,22 @@ class FigureProcess:
         self.close()
 
 
-def _serve(connection, parent_end):
-    """The helper's life: import the plotting stack, wait for one job, draw it, send back the paths or the error."""
+def _serve(connection, parent_end, warm_ups):
+    """The helper's life: import the plotting stack (``warm_ups``), wait for one job, run it, send back its value
+    (the paths drawn) or the error."""
     parent_end.close()  # else the pipe would never report that the parent is gone
     try:
-        try:
-            _warm_up()
-        except Exception as exc:  # reported once the job comes, as drawing it here would
-            failed = exc
-        else:
-            failed = None
-        job = connection.recv()
+        failed = None
+        for warm_up in warm_ups:
+            try:
+                warm_up()
+            except Exception as exc:  # reported once the job comes, as drawing it here would
+                failed = failed or exc
+        function, args = connection.recv()
         try:
             if failed is not None:
                 raise failed
-            reply = ("ok", write_figures(*job), None)
+            reply = ("ok", (globals()[function] if isinstance(function, str) else function)(*args), None)
         except Exception as exc:
             reply = ("error", _portable(exc), _traceback(exc))
         connection.send(reply)
@@ -191,7 +204,7 @@ def _serve(connection, parent_end):
         pass
 
 
-def _warm_up():
+def warm_up_figures():
     """Import what drawing the figures imports, and draw a small figure of the same kinds once (fonts, text
     layout, colour bar, PNG encoder): in the helper, while the run simulates, so that the job finds all of it
     loaded. About 0.4 s of the helper's time, none of the run's."""
@@ -210,6 +223,15 @@ def _warm_up():
     legend_beside(ax)
     ax.set(xlabel="x (µm)", ylabel="y (µrad)", title="warm-up")
     save_figure_bytes(ax.figure, dpi=10)
+
+
+def warm_up_netcdf():
+    """Import what writing a netCDF file with xarray imports (with dask installed, xarray imports dask.array and
+    distributed then: about 1.5 s), by writing a small dataset into memory."""
+    import numpy as np
+    import xarray as xr
+
+    xr.Dataset({"a": ("x", np.zeros(2))}, attrs={"b": np.zeros(2)}).to_netcdf()
 
 
 def _portable(exc):

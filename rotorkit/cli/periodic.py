@@ -39,11 +39,19 @@ def _parse_param(text):
 
 
 def main(args):
-    import matplotlib
+    from .figures import FigureProcess, warm_up_figures, warm_up_netcdf
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # first: a helper imports matplotlib and xarray (with dask installed, dask too: 2-3 s together) while this
+    # process loads the model and follows the branch; it then writes the files
+    helper = FigureProcess.start(warm_ups=(warm_up_figures, warm_up_netcdf))
+    try:
+        return _main(args, helper)
+    finally:
+        if helper is not None:
+            helper.close()
 
+
+def _main(args, helper):
     from ..analysis.periodic import continuation
     from .common import load_preset
 
@@ -60,21 +68,12 @@ def main(args):
                           harmonics=args.harmonics, subharmonic=args.subharmonic, stability=args.stability,
                           max_points=args.max_points, progress=progress)
     out = output_folder(args, "periodic")
-    branch.save(out / "periodic_branch.nc")
     stations = args.station or sorted({c[1:] for c in branch.coordinate_names if c.startswith("x")
                                        and f"y{c[1:]}" in branch.coordinate_names})
-    rows = [f"{name},stable," + ",".join(f"max_radius_{s}_m" for s in stations)]
-    radii = [branch.max_radius(s) for s in stations]
-    for i, value in enumerate(branch.parameter):
-        stable = "" if branch.stable is None else str(int(branch.stable[i]))
-        rows.append(",".join([f"{value:.10g}", stable] + [f"{r[i]:.10g}" for r in radii]))
-    write_text(out / "periodic_branch.csv", "\n".join(rows) + "\n")
-    for s in stations:
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        branch.plot_response(s, ax=ax)
-        fig.tight_layout()
-        save_figure(fig, out / f"periodic_response_{s}.png")
-        plt.close(fig)
+    if helper is not None and helper.call(write_outputs, branch, stations, out):
+        helper.collect()
+    else:
+        write_outputs(branch, stations, out)
     print(f"periodic branch: {len(branch)} points, {name} from {start:g} to {stop:g} ({branch.reason})")
     for b in branch.bifurcations:
         print(f"  {b.kind} at {name} = {b.parameter:.6g}")
@@ -83,3 +82,28 @@ def main(args):
     print(f"  worst truncation estimate (fine-grid residual / force scale): {branch.residual_error.max():.3g}")
     print(f"wrote {out / 'periodic_branch.nc'}, {out / 'periodic_branch.csv'} and the response figures")
     return 0
+
+
+def write_outputs(branch, stations, out):
+    """Write ``periodic_branch.nc``, ``periodic_branch.csv`` (max radius of each station per point) and a
+    response figure per station into the folder ``out``; returns their paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    written = [out / "periodic_branch.nc", out / "periodic_branch.csv"]
+    branch.save(written[0])
+    rows = [f"{branch.parameter_name},stable," + ",".join(f"max_radius_{s}_m" for s in stations)]
+    radii = [branch.max_radius(s) for s in stations]
+    for i, value in enumerate(branch.parameter):
+        stable = "" if branch.stable is None else str(int(branch.stable[i]))
+        rows.append(",".join([f"{value:.10g}", stable] + [f"{r[i]:.10g}" for r in radii]))
+    write_text(written[1], "\n".join(rows) + "\n")
+    for s in stations:
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        branch.plot_response(s, ax=ax)
+        fig.tight_layout()
+        written.append(save_figure(fig, out / f"periodic_response_{s}.png"))
+        plt.close(fig)
+    return written
