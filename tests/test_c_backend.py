@@ -95,6 +95,7 @@ def test_library_is_reused_and_a_tampered_one_rebuilt(tmp_path):
     source = "double twice(double x) { return 2.0 * x; }\n"
     cbuild.library(tmp_path, "lib", source)
     assert (tmp_path / "lib.lock").exists()  # the builders' lock lies beside the library, not in <cache>/shared
+    assert not (tmp_path.parent.parent / "secret.key").exists()  # a folder outside the cache: the cache's key
     from rotorkit.codegen import cache
 
     assert not list((cache.cache_dir() / "shared").glob("*lib*.lock"))

@@ -492,3 +492,24 @@ def test_processes_that_start_on_a_new_cache_at_once_agree_on_its_key(tmp_path):
             process.join(timeout=60)
         assert keys[0] == keys[1] == (root / "secret.key").read_bytes()
         assert not [p.name for p in root.iterdir() if p.name != "secret.key"]  # no temporary file left
+
+
+def test_a_signing_key_that_cannot_be_read_for_now_is_kept(fresh_cache, monkeypatch):
+    """An error reading the key (no file descriptor left, an I/O error) fails this call (the caller does without
+    the cache), never replaces the key: everything signed with it stays valid. Replacing it on a full disk's
+    failed read was the intermittent 'did not sign' warning of CI (tests/test_hostile_disk.py)."""
+    import errno
+
+    key = cache.secret_key()
+    real_open = os.open
+
+    def no_descriptor_left(path, *args, **kwargs):
+        if str(path).endswith("secret.key"):
+            raise OSError(errno.EMFILE, os.strerror(errno.EMFILE), str(path))
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", no_descriptor_left)
+    with pytest.raises(OSError, match="Too many open files"):
+        cache.secret_key()
+    monkeypatch.setattr(os, "open", real_open)
+    assert cache.secret_key() == key == (fresh_cache / "secret.key").read_bytes()

@@ -30,7 +30,8 @@ def full_disk(monkeypatch):
 
     def fdopen(fd, *args, **kwargs):
         where = os.readlink(f"/proc/self/fd/{fd}") if os.path.exists(f"/proc/self/fd/{fd}") else ""
-        if any(where.startswith(str(f) + os.sep) for f in full):
+        writing = any(c in (args[0] if args else kwargs.get("mode", "r")) for c in "wax+")  # a full disk still reads
+        if writing and any(where.startswith(str(f) + os.sep) for f in full):
             os.close(fd)
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return real_fdopen(fd, *args, **kwargs)
@@ -85,12 +86,14 @@ def test_a_full_disk_under_the_model_cache_is_a_warning_naming_it_and_the_model_
     from rotorkit.codegen import cache_folders
 
     monkeypatch.setattr(cache_folders, "_WARNED", set())  # one warning per kind and process: this one is new here
+    key = model_cache.secret_key()
     full_disk(cache)
     with pytest.warns(model_cache.CacheWarning, match=rf"no space is left on the disk holding {cache}.*free of .*"
                                                       "set ROTORKIT_CACHE_DIR to a folder on a disk with space"):
         system = two_masses().compile(backend="python")
     result = rk.simulate(system, (0.0, 0.01), engine="scipy")
     assert result.stats["success"]
+    assert model_cache.secret_key() == key  # kept: what the session signed with it stays valid
 
 
 def test_other_write_errors_are_unchanged(tmp_path, monkeypatch):

@@ -85,12 +85,16 @@ def secret_key(root=None):
     for _attempt in range(3):
         try:
             key = read_data(path, what="cache metadata", max_bytes=64)
+        except FileNotFoundError:
+            key = None
+        except ValueError:  # not a regular file (a folder, a FIFO in its place) or too long: damaged
+            key = b""
+        # any other OSError (no descriptor left, an I/O error) is this call's: the key may be sound, and a new one
+        # would orphan everything signed with it (the caller does without the cache this time)
+        if key is not None:
             if len(key) == 32 and is_private(path) and not path.stat().st_mode & 0o077:
                 return key
-        except (OSError, ValueError):  # missing; ValueError: not a regular file, or too long
-            pass
-        if os.path.lexists(path):
-            remove_path(path)  # e.g. a folder in its place: a damaged cache, not a reason to fail
+            remove_path(path)  # damaged, or others could have read or written it: replaced
         key = os.urandom(32)
         if atomic_write_bytes(path, key, mode=0o600, exclusive=True):
             return key
@@ -100,11 +104,19 @@ def secret_key(root=None):
 def entry_key(entry):
     """The signing key of the cache that holds ``entry`` (``<cache>/models/<key>`` or ``<cache>/shared/<name>``).
 
-    Not the key of today's :func:`cache_dir`: a process keeps the modules it has loaded (``system._MODULES``) when
-    ``ROTORKIT_CACHE_DIR`` changes (a test's temporary cache), and what it compiles for them later is written into
-    their own entries, so it must be signed with their cache's key, else the next process finds it unsigned.
+    Not necessarily the key of today's :func:`cache_dir`: a process keeps the modules it has loaded
+    (``system._MODULES``) when ``ROTORKIT_CACHE_DIR`` changes (a test's temporary cache), and what it compiles
+    for them later is written into their own entries, so it must be signed with their cache's key (which exists:
+    storing the entry made it), else the next process finds it unsigned. A folder outside any cache (a C
+    library built in a folder of the caller's) is signed with today's key.
     """
-    return secret_key(Path(entry).parent.parent)
+    root = Path(entry).parent.parent
+    try:
+        if root != cache_dir() and not (root / "secret.key").is_file():
+            return secret_key()
+    except OSError:
+        return secret_key()
+    return secret_key(root)
 
 
 def _digest(source, secret=None):
