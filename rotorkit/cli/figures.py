@@ -125,8 +125,8 @@ class FigureProcess:
         here, there = context.Pipe()
         for stream in (sys.stdout, sys.stderr):  # nothing buffered may be written twice
             stream.flush()
-        process = context.Process(target=_serve, args=(there, here, warm_ups or (warm_up_figures,)), name="rotorkit-figures",
-                                  daemon=True)
+        process = context.Process(target=_serve, args=(there, here, warm_ups or (warm_up_figures,)),
+                                  name="rotorkit-figures", daemon=True)
         process.start()
         there.close()
         return cls(process, here)
@@ -231,7 +231,10 @@ def warm_up_netcdf():
     import numpy as np
     import xarray as xr
 
-    xr.Dataset({"a": ("x", np.zeros(2))}, attrs={"b": np.zeros(2)}).to_netcdf()
+    try:  # in memory (scipy's netCDF 3 writer); the job's own writer reports its errors
+        xr.Dataset({"a": ("x", np.zeros(2))}, attrs={"b": np.zeros(2)}).to_netcdf()
+    except Exception:  # noqa: BLE001 - only a warm-up
+        pass
 
 
 def _portable(exc):
