@@ -508,8 +508,22 @@ def test_a_signing_key_that_cannot_be_read_for_now_is_kept(fresh_cache, monkeypa
             raise OSError(errno.EMFILE, os.strerror(errno.EMFILE), str(path))
         return real_open(path, *args, **kwargs)
 
+    assert run() == pytest.approx(EXPECTED)  # numba's files written and signed
+    files = sorted((entry_of(fresh_cache) / "__pycache__").iterdir())
     monkeypatch.setattr(os, "open", no_descriptor_left)
     with pytest.raises(OSError, match="Too many open files"):
         cache.secret_key()
+    monkeypatch.setattr(system_module, "_JIT_CACHE", {})  # the module loaded before, numba's functions not
+    monkeypatch.setattr(cache_folders, "_WARNED", set())
+    with pytest.warns(cache.CacheWarning, match="signing key .* cannot be read .*Too many open files"):
+        assert run() == pytest.approx(EXPECTED)  # compiled without the disk cache, nothing removed
+    forget(monkeypatch)
+    with pytest.warns(cache.CacheWarning, match="cannot store model .*Too many open files.*built in memory"):
+        assert run() == pytest.approx(EXPECTED)  # the module too: built in memory, the entry kept
     monkeypatch.setattr(os, "open", real_open)
     assert cache.secret_key() == key == (fresh_cache / "secret.key").read_bytes()
+    assert sorted((entry_of(fresh_cache) / "__pycache__").iterdir()) == files
+    forget(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        assert run() == pytest.approx(EXPECTED)  # loaded as signed before

@@ -80,7 +80,8 @@ def secret_key(root=None):
     Processes that start on a new cache at once (a run and the loop it compiles in another process, test
     workers' children) agree on one key: a new key is published only where none exists (a hard link), and the
     one that loses reads the winner's. Were each to keep its own, what the others signed would be removed as
-    unsigned by every later process."""
+    unsigned by every later process. For the same reason a key that cannot be read for now (an I/O error, no
+    file descriptor left) raises OSError and is kept; only a missing or damaged key is replaced."""
     path = Path(root if root is not None else cache_dir()) / "secret.key"
     for _attempt in range(3):
         try:
@@ -208,8 +209,12 @@ def load(key):
         source = read_data(entry / "rhs.py", what="cache entry").decode("utf-8")
     except (OSError, ValueError) as exc:  # unreadable, a file in place of a folder, not UTF-8, not JSON
         return _discard(key, exc)
+    try:
+        digest = _digest(source)
+    except OSError:  # the key cannot be read for now (secret_key): the entry is kept, the model built in memory
+        return None
     valid = (isinstance(meta, dict) and meta.get("format") == FORMAT and meta.get("key") == key
-             and isinstance(meta.get("hmac"), str) and hmac.compare_digest(meta["hmac"], _digest(source)))
+             and isinstance(meta.get("hmac"), str) and hmac.compare_digest(meta["hmac"], digest))
     if valid:
         try:
             module = _execute(key, source, entry / "rhs.py")  # the text just verified, not a re-read
@@ -326,7 +331,18 @@ def _guard(dispatcher, entry, folder=None):
     if os.path.realpath(path) != os.path.realpath(folder):
         return False  # NUMBA_CACHE_DIR or an unwritable entry: numba would read files we do not check
 
+    def key_readable():
+        try:
+            entry_key(entry)
+            return True
+        except OSError as exc:  # kept as it is (secret_key): the disk cache is not used by this call, nothing removed
+            warn_once(f"rotorkit cache: the signing key of {entry.parent.parent} cannot be read ({exc}); numba's "
+                      f"disk cache of {entry.name} is not used", topic=("numba-key", str(entry)))
+            return False
+
     def verified_load(*args, **kwargs):
+        if not key_readable():
+            return None  # numba compiles
         try:
             with shared_lock(NUMBA_LOCK, folder=entry):  # not while another process writes and signs
                 _verify_numba_files(entry, folder)
@@ -338,6 +354,8 @@ def _guard(dispatcher, entry, folder=None):
             return None
 
     def signed_save(*args, **kwargs):
+        if not key_readable():
+            return
         try:
             with shared_lock(NUMBA_LOCK, folder=entry):  # its files are unsigned until signed just below
                 _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
