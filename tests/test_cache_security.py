@@ -515,7 +515,7 @@ def test_a_signing_key_that_cannot_be_read_for_now_is_kept(fresh_cache, monkeypa
         cache.secret_key()
     monkeypatch.setattr(system_module, "_JIT_CACHE", {})  # the module loaded before, numba's functions not
     monkeypatch.setattr(cache_folders, "_WARNED", set())
-    with pytest.warns(cache.CacheWarning, match="signing key .* cannot be read .*Too many open files"):
+    with pytest.warns(cache.CacheWarning, match="cannot be checked now .*signing key.*Too many open files"):
         assert run() == pytest.approx(EXPECTED)  # compiled without the disk cache, nothing removed
     forget(monkeypatch)
     with pytest.warns(cache.CacheWarning, match="cannot store model .*Too many open files.*built in memory"):
@@ -527,3 +527,31 @@ def test_a_signing_key_that_cannot_be_read_for_now_is_kept(fresh_cache, monkeypa
     with warnings.catch_warnings():
         warnings.simplefilter("error", cache.CacheWarning)
         assert run() == pytest.approx(EXPECTED)  # loaded as signed before
+
+
+@pytest.mark.parametrize("unreadable", ["numba.sig.json", ".nbc"])
+def test_numba_files_that_cannot_be_read_for_now_are_kept(fresh_cache, monkeypatch, unreadable):
+    """An I/O error reading the signatures or a numba file is no evidence of tampering: the files are neither used
+    nor removed (one warning), and the next process loads them."""
+    import errno
+
+    assert run() == pytest.approx(EXPECTED)
+    entry = entry_of(fresh_cache)
+    files = sorted((entry / "__pycache__").iterdir())
+    real_open = os.open
+
+    def io_error(path, *args, **kwargs):
+        if str(path).endswith(unreadable):
+            raise OSError(errno.EIO, os.strerror(errno.EIO), str(path))
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", io_error)
+    monkeypatch.setattr(system_module, "_JIT_CACHE", {})  # the module stays loaded; numba's functions are new
+    with pytest.warns(cache.CacheWarning, match="cannot be checked now .*Input/output error"):
+        assert run() == pytest.approx(EXPECTED)
+    monkeypatch.setattr(os, "open", real_open)
+    assert sorted((entry / "__pycache__").iterdir()) == files
+    forget(monkeypatch)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cache.CacheWarning)
+        assert run() == pytest.approx(EXPECTED)

@@ -268,27 +268,45 @@ def store(key, source):
 # -- numba's cache files ------------------------------------------------------
 
 
+class _NotNow(OSError):
+    """A read error that says nothing about the files (no file descriptor left, an I/O error): they cannot be
+    checked now, and are neither used nor removed."""
+
+
+def _read_or_none(path, what):
+    """The bytes of ``path``; None if it is missing or damaged (not a regular file, too long); :class:`_NotNow`
+    for any other error."""
+    try:
+        return read_data(path, what=what)
+    except (FileNotFoundError, ValueError):
+        return None
+    except OSError as exc:
+        raise _NotNow(exc.errno, f"{path}: {exc.strerror or exc}") from exc
+
+
 def _verify_numba_files(entry, folder=None, quiet=False):
     """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature (with a
     warning, unless ``quiet``: files this process was writing when it was interrupted, or a process that
-    left its :data:`SAVING` mark, killed while saving). Called with the entry's lock held."""
+    left its :data:`SAVING` mark, killed while saving). Called with the entry's lock held. :class:`_NotNow`
+    where the key or a file cannot be read for now: nothing is removed then."""
     folder = entry / "__pycache__" if folder is None else folder
     private_dir(folder)
     interrupted = (entry / SAVING).exists()  # under the lock no process is saving: its writer died mid-save
-    secret = entry_key(entry)
     try:
-        signed = json.loads(read_data(entry / SIGNATURES, what="cache metadata").decode("utf-8"))
+        secret = entry_key(entry)
+    except OSError as exc:
+        raise _NotNow(exc.errno, f"the signing key: {exc}") from exc
+    data = _read_or_none(entry / SIGNATURES, "cache metadata")
+    try:
+        signed = json.loads(data.decode("utf-8")) if data is not None else {}
         signed = signed if isinstance(signed, dict) else {}
-    except (OSError, ValueError):
+    except ValueError:  # not UTF-8, not JSON: damaged
         signed = {}
     removed = []
     for path in folder.iterdir():
         good = False
         if path.is_file() and not path.is_symlink() and isinstance(signed.get(path.name), str):
-            try:
-                data = read_data(path, what="cache entry")
-            except (OSError, ValueError):
-                data = None
+            data = _read_or_none(path, "cache entry")
             good = data is not None and hmac.compare_digest(signed[path.name], _file_digest(secret, path.name, data))
         if not good:
             remove_path(path)
@@ -302,7 +320,10 @@ def _verify_numba_files(entry, folder=None, quiet=False):
 
 
 def _sign_numba_files(entry, folder=None):
-    secret = entry_key(entry)
+    try:
+        secret = entry_key(entry)
+    except OSError as exc:
+        raise _NotNow(exc.errno, f"the signing key: {exc}") from exc
     folder = entry / "__pycache__" if folder is None else folder
     signed = {}
     for path in folder.iterdir():
@@ -331,22 +352,18 @@ def _guard(dispatcher, entry, folder=None):
     if os.path.realpath(path) != os.path.realpath(folder):
         return False  # NUMBA_CACHE_DIR or an unwritable entry: numba would read files we do not check
 
-    def key_readable():
-        try:
-            entry_key(entry)
-            return True
-        except OSError as exc:  # kept as it is (secret_key): the disk cache is not used by this call, nothing removed
-            warn_once(f"rotorkit cache: the signing key of {entry.parent.parent} cannot be read ({exc}); numba's "
-                      f"disk cache of {entry.name} is not used", topic=("numba-key", str(entry)))
-            return False
+    def not_now(exc):  # nothing removed: what was signed stays valid for the next process
+        warn_once(f"rotorkit cache: numba's cache in {path} cannot be checked now ({exc}); it is not used by this "
+                  "process", topic=("numba-now", str(path)))
 
     def verified_load(*args, **kwargs):
-        if not key_readable():
-            return None  # numba compiles
         try:
             with shared_lock(NUMBA_LOCK, folder=entry):  # not while another process writes and signs
                 _verify_numba_files(entry, folder)
                 return load_overload(*args, **kwargs)
+        except _NotNow as exc:
+            not_now(exc)
+            return None  # numba compiles
         except Exception as exc:  # noqa: BLE001 - a damaged cache file: compile instead
             warn_once(f"rotorkit cache: numba's cache in {path} could not be read ({type(exc).__name__}: {exc}); "
                       "it is removed and numba compiles again", topic=("numba-load", str(path)))
@@ -354,8 +371,6 @@ def _guard(dispatcher, entry, folder=None):
             return None
 
     def signed_save(*args, **kwargs):
-        if not key_readable():
-            return
         try:
             with shared_lock(NUMBA_LOCK, folder=entry):  # its files are unsigned until signed just below
                 _verify_numba_files(entry, folder)  # numba reads its index again before adding to it
@@ -367,6 +382,8 @@ def _guard(dispatcher, entry, folder=None):
                     _verify_numba_files(entry, folder, quiet=True)
                     raise
                 remove_path(entry / SAVING)
+        except _NotNow as exc:  # unsigned files of this save (if any) keep the SAVING mark: removed quietly later
+            not_now(exc)
         except Exception as exc:  # noqa: BLE001 - the compiled code works; only the disk copy is lost
             warn_once(f"rotorkit cache: numba's cache in {path} could not be written ({type(exc).__name__}: "
                       f"{exc}); the model is compiled again in the next process", topic=("numba-save", str(path)))
