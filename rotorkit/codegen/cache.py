@@ -112,12 +112,7 @@ def entry_key(entry):
     library built in a folder of the caller's) is signed with today's key.
     """
     root = Path(entry).parent.parent
-    try:
-        if root != cache_dir() and not (root / "secret.key").is_file():
-            return secret_key()
-    except OSError:
-        return secret_key()
-    return secret_key(root)
+    return secret_key(root if root == cache_dir() or (root / "secret.key").is_file() else None)
 
 
 def _digest(source, secret=None):
@@ -284,6 +279,14 @@ def _read_or_none(path, what):
         raise _NotNow(exc.errno, f"{path}: {exc.strerror or exc}") from exc
 
 
+def _signing_key(entry):
+    """:func:`entry_key`, its read errors as :class:`_NotNow`."""
+    try:
+        return entry_key(entry)
+    except OSError as exc:
+        raise _NotNow(exc.errno, f"the signing key: {exc}") from exc
+
+
 def _verify_numba_files(entry, folder=None, quiet=False):
     """Remove every file of ``folder`` (``entry/__pycache__``) that does not carry this user's signature (with a
     warning, unless ``quiet``: files this process was writing when it was interrupted, or a process that
@@ -292,10 +295,7 @@ def _verify_numba_files(entry, folder=None, quiet=False):
     folder = entry / "__pycache__" if folder is None else folder
     private_dir(folder)
     interrupted = (entry / SAVING).exists()  # under the lock no process is saving: its writer died mid-save
-    try:
-        secret = entry_key(entry)
-    except OSError as exc:
-        raise _NotNow(exc.errno, f"the signing key: {exc}") from exc
+    secret = _signing_key(entry)
     data = _read_or_none(entry / SIGNATURES, "cache metadata")
     try:
         signed = json.loads(data.decode("utf-8")) if data is not None else {}
@@ -320,10 +320,7 @@ def _verify_numba_files(entry, folder=None, quiet=False):
 
 
 def _sign_numba_files(entry, folder=None):
-    try:
-        secret = entry_key(entry)
-    except OSError as exc:
-        raise _NotNow(exc.errno, f"the signing key: {exc}") from exc
+    secret = _signing_key(entry)
     folder = entry / "__pycache__" if folder is None else folder
     signed = {}
     for path in folder.iterdir():
